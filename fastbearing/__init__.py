@@ -1,0 +1,25 @@
+"""fastbearing: stiffness matrices of rolling bearings, fast.
+
+Gunduz & Singh (2013) double-row angular contact ball bearing model: the
+full 5x5 stiffness matrix Kb of single-row, double-row (DB, DF, DT) and
+general sets of rows, given the displacement q or the load f.
+
+Units: N, mm, rad. q = (dx, dy, dz, bx, by); f = (Fx, Fy, Fz, Mx, My).
+"""
+
+from importlib.metadata import PackageNotFoundError, version
+
+from . import status
+from .api import (SolveManyResult, SolveResult, ball_loads, num_threads, solve, solve_many, stiffness,
+                  stiffness_many)
+from .bearing import ARRANGEMENTS, Bearing, Row
+from .bearing_file import bearing_from_table, load_bearing, preset_names
+
+try:
+    __version__ = version("fastbearing")
+except PackageNotFoundError:  # running from a source tree
+    __version__ = "0+unknown"
+
+__all__ = ["ARRANGEMENTS", "Bearing", "Row", "SolveManyResult", "SolveResult", "ball_loads", "bearing_from_table",
+           "load_bearing", "num_threads", "preset_names", "solve", "solve_many", "status", "stiffness",
+           "stiffness_many"]

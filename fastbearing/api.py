@@ -1,0 +1,287 @@
+"""Python API: check and prepare inputs, then call the njit kernels.
+
+Units everywhere: N, mm, rad. q = (dx, dy, dz, bx, by) in mm and rad;
+f = (Fx, Fy, Fz, Mx, My) in N and N*mm; Kb in N/mm (translations),
+N*mm/rad (tilts) and N/rad (coupling), all at the bearing centre.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+from dataclasses import dataclass
+
+import numba
+import numpy as np
+
+from . import config, status as st
+from .bearing import Bearing
+from .kernel import ball_loop
+from .solver import BROYDEN, NEWTON, WORK_ROWS, solve_case
+from .sweep import solve_sweep, stiffness_sweep
+
+METHODS = {"newton": NEWTON, "broyden": BROYDEN}
+LOAD_NAMES = ("Fx", "Fy", "Fz", "Mx", "My")
+DISPLACEMENT_NAMES = ("dx", "dy", "dz", "bx", "by")
+LOAD_UNITS = ("N", "N", "N", "N*mm", "N*mm")
+DISPLACEMENT_UNITS = ("mm", "mm", "mm", "rad", "rad")
+
+
+@dataclass(frozen=True)
+class SolveResult:
+    """Outcome of a load-given solve.
+
+    Attributes
+    ----------
+    q : ndarray (5,)
+        Displacement (dx, dy, dz, bx, by) in mm and rad.
+    f : ndarray (5,)
+        Load at q (Fx, Fy, Fz, Mx, My) in N and N*mm.
+    K : ndarray (5, 5)
+        Kb at q: N/mm, N*mm/rad, N/rad.
+    status : int
+        Code from :mod:`fastbearing.status`; ``status_name`` spells it.
+    iterations : int
+        Solver iterations.
+    residual : float
+        Relative residual: max|f(q) - f_target| over max|f_target| with
+        moments divided by the largest pitch radius.
+    evaluations : int
+        Kernel evaluations (each is one pass over all balls).
+    """
+
+    q: np.ndarray
+    f: np.ndarray
+    K: np.ndarray
+    status: int
+    iterations: int
+    residual: float
+    evaluations: int
+
+    @property
+    def converged(self) -> bool:
+        return st.is_converged(self.status)
+
+    @property
+    def status_name(self) -> str:
+        return st.describe(self.status)
+
+    def to_dict(self) -> dict:
+        """JSON-ready dict (keys q, f, K, status, converged, iterations, residual)."""
+        return {"q": self.q.tolist(), "f": self.f.tolist(), "K": self.K.tolist(), "status": self.status_name,
+                "converged": self.converged, "iterations": int(self.iterations), "residual": float(self.residual)}
+
+
+def _check_bearing(bearing) -> Bearing:
+    if not isinstance(bearing, Bearing):
+        raise ValueError(f"bearing must be a fastbearing.Bearing, got {type(bearing).__name__}")
+    return bearing
+
+
+def as_cases(values, name: str, units: str) -> np.ndarray:
+    """(N, 5) float64 C-contiguous copy of ``values``; ValueError names the field."""
+    try:
+        arr = np.array(values, dtype=np.float64, order="C", ndmin=2)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be numbers ({units}), got {values!r}") from None
+    if arr.ndim != 2 or arr.shape[1] != 5:
+        raise ValueError(f"{name} must have 5 components ({units}) per case, got shape {np.shape(values)}")
+    bad = ~np.isfinite(arr)
+    if bad.any():
+        i, j = np.argwhere(bad)[0]
+        raise ValueError(f"{name} must be finite; case {i} component {j} is {arr[i, j]!r}")
+    return arr
+
+
+def _as_vector(values, name: str, units: str) -> np.ndarray:
+    arr = as_cases(values, name, units)
+    if arr.shape[0] != 1:
+        raise ValueError(f"{name} must be 5 numbers ({units}), got shape {np.shape(values)}")
+    return arr[0]
+
+
+def _method(method: str) -> int:
+    if method not in METHODS:
+        raise ValueError(f"method must be one of {sorted(METHODS)}, got {method!r}")
+    return METHODS[method]
+
+
+def _positive(name, value, default, kind=float):
+    if value is None:
+        return default
+    if not (np.isfinite(value) and value > 0):
+        raise ValueError(f"{name} must be > 0, got {value!r}")
+    return kind(value)
+
+
+def solver_settings(bearing: Bearing, method: str = "newton", rtol=None, max_iter=None) -> dict:
+    """Checked solver arguments shared by :func:`solve` and the sweeps."""
+    m = _method(method)
+    default_iter = config.MAX_ITER_NEWTON if m == NEWTON else config.MAX_ITER_BROYDEN
+    return dict(
+        method=m,
+        rtol=_positive("rtol", rtol, config.RTOL),
+        max_iter=_positive("max_iter", max_iter, default_iter, int),
+        length_scale=bearing.length_scale,
+        force_floor=bearing.preload_force,
+        # one step may move at most half the smallest groove-centre distance
+        max_step=0.5 * min(r.groove_center_distance for r in bearing.rows),
+    )
+
+
+def stiffness(bearing: Bearing, q) -> tuple[np.ndarray, np.ndarray]:
+    """Load f and stiffness Kb at a given displacement (direct substitution).
+
+    Parameters
+    ----------
+    bearing : Bearing
+    q : sequence of 5 floats
+        (dx, dy, dz, bx, by) in mm and rad at the bearing centre.
+
+    Returns
+    -------
+    f : ndarray (5,)
+        (Fx, Fy, Fz, Mx, My) in N and N*mm.
+    K : ndarray (5, 5)
+        Kb in N/mm, N*mm/rad, N/rad; symmetric.
+    """
+    bearing = _check_bearing(bearing)
+    q = _as_vector(q, "q", "dx, dy, dz in mm; bx, by in rad")
+    f = np.empty(5)
+    K = np.empty((5, 5))
+    empty = np.empty(0)
+    ball_loop(q, bearing.ball_table(), f, K, True, empty, empty)
+    return f, K
+
+
+def ball_loads(bearing: Bearing, q) -> tuple[np.ndarray, np.ndarray]:
+    """Per-ball load Q (N) and contact angle alpha (rad, signed on the row's contact direction) at q.
+
+    Balls are ordered row by row, each row from its first ball.
+    """
+    bearing = _check_bearing(bearing)
+    q = _as_vector(q, "q", "dx, dy, dz in mm; bx, by in rad")
+    Q = np.empty(bearing.n_balls)
+    alpha = np.empty(bearing.n_balls)
+    ball_loop(q, bearing.ball_table(), np.empty(5), np.empty((5, 5)), False, Q, alpha)
+    return Q, alpha
+
+
+def solve(bearing: Bearing, f, q0=None, method: str = "newton", rtol=None, max_iter=None) -> SolveResult:
+    """Displacement q and stiffness Kb under a given load f (paper Eq. 16).
+
+    Parameters
+    ----------
+    bearing : Bearing
+    f : sequence of 5 floats
+        (Fx, Fy, Fz, Mx, My) in N and N*mm, applied to the inner ring at the
+        bearing centre.
+    q0 : sequence of 5 floats, optional
+        Warm start (mm, rad); a cold start is used if it fails.
+    method : {"newton", "broyden"}
+        Damped Newton with the analytic Kb, or Broyden's secant method.
+    rtol : float, optional
+        Relative residual tolerance (default 1e-10).
+    max_iter : int, optional
+        Iterations per attempt.
+
+    Returns
+    -------
+    SolveResult
+        Never raises on non-convergence: check ``result.converged``.
+    """
+    bearing = _check_bearing(bearing)
+    f_target = _as_vector(f, "f", "Fx, Fy, Fz in N; Mx, My in N*mm")
+    opts = solver_settings(bearing, method, rtol, max_iter)
+    warm = q0 is not None
+    q = _as_vector(q0, "q0", "mm, rad").copy() if warm else np.zeros(5)
+    f_out = np.empty(5)
+    K = np.empty((5, 5))
+    work = np.empty((WORK_ROWS, 5))
+    code, it, res, ev = solve_case(f_target, q, f_out, K, bearing.ball_table(), opts["method"], warm, opts["rtol"],
+                                   opts["max_iter"], opts["length_scale"], opts["force_floor"], opts["max_step"],
+                                   work)
+    return SolveResult(q, f_out, K, int(code), int(it), float(res), int(ev))
+
+
+@contextlib.contextmanager
+def num_threads(n):
+    """Run numba's parallel loops on ``n`` threads inside the block (None: leave as is)."""
+    if n is None:
+        yield
+        return
+    limit = numba.config.NUMBA_NUM_THREADS
+    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or not 1 <= n <= limit:
+        raise ValueError(f"threads must be an integer in [1, {limit}] (NUMBA_NUM_THREADS), got {n!r}")
+    old = numba.get_num_threads()
+    numba.set_num_threads(int(n))
+    try:
+        yield
+    finally:
+        numba.set_num_threads(old)
+
+
+@dataclass(frozen=True)
+class SolveManyResult:
+    """Arrays from :func:`solve_many`: q (N,5) mm/rad, f (N,5) N/N*mm, K (N,5,5), status (N,) int8,
+    iterations (N,) int32, residual (N,) relative, evaluations (N,) int32."""
+
+    q: np.ndarray
+    f: np.ndarray
+    K: np.ndarray
+    status: np.ndarray
+    iterations: np.ndarray
+    residual: np.ndarray
+    evaluations: np.ndarray
+
+    @property
+    def converged(self) -> np.ndarray:
+        return np.isin(self.status & st.OUTCOME_MASK, (st.CONVERGED, st.UNLOADED))
+
+
+def solve_many(bearing: Bearing, f, q0=None, method: str = "newton", rtol=None, max_iter=None,
+               threads=None) -> SolveManyResult:
+    """Solve many independent load cases in parallel.
+
+    Parameters
+    ----------
+    f : array_like (N, 5)
+        Loads (Fx, Fy, Fz, Mx, My) in N and N*mm.
+    q0 : array_like (N, 5), optional
+        Warm starts in mm and rad.
+    threads : int, optional
+        Numba threads for this call (default: NUMBA_NUM_THREADS).
+
+    Results do not depend on the thread count.
+    """
+    bearing = _check_bearing(bearing)
+    f_targets = as_cases(f, "f", "Fx, Fy, Fz in N; Mx, My in N*mm")
+    n = f_targets.shape[0]
+    opts = solver_settings(bearing, method, rtol, max_iter)
+    warm = q0 is not None
+    if warm:
+        q = as_cases(q0, "q0", "mm, rad")
+        if q.shape[0] != n:
+            raise ValueError(f"q0 must have the same number of cases as f ({n}), got {q.shape[0]}")
+    else:
+        q = np.zeros((n, 5))
+    out = SolveManyResult(q, np.empty((n, 5)), np.empty((n, 5, 5)), np.empty(n, np.int8), np.empty(n, np.int32),
+                          np.empty(n), np.empty(n, np.int32))
+    with num_threads(threads):
+        solve_sweep(f_targets, out.q, out.f, out.K, out.status, out.iterations, out.residual, out.evaluations,
+                    bearing.ball_table(), opts["method"], warm, opts["rtol"], opts["max_iter"],
+                    opts["length_scale"], opts["force_floor"], opts["max_step"], config.SWEEP_BLOCK)
+    return out
+
+
+def stiffness_many(bearing: Bearing, q, threads=None) -> tuple[np.ndarray, np.ndarray]:
+    """f (N, 5) and Kb (N, 5, 5) at many displacements q (N, 5) in mm and rad, in parallel."""
+    bearing = _check_bearing(bearing)
+    q = as_cases(q, "q", "dx, dy, dz in mm; bx, by in rad")
+    n = q.shape[0]
+    f = np.empty((n, 5))
+    K = np.empty((n, 5, 5))
+    with num_threads(threads):
+        stiffness_sweep(q, f, K, bearing.ball_table(), config.SWEEP_BLOCK)
+    return f, K
+
