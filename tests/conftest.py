@@ -1,0 +1,57 @@
+"""Shared fixtures: the paper's bearing, random bearings in both the
+fastbearing and the naive-reference form."""
+
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+sys.path.insert(0, str(Path(__file__).parent))
+
+import fastbearing as fb  # noqa: E402
+
+PAPER_LOADS = {"table3": (1000.0, 0.0, 0.0, 0.0, -74000.0), "table4": (1000.0, 0.0, 3000.0, 0.0, -74000.0)}
+
+
+def to_row(d: dict) -> fb.Row:
+    """A naive-reference row dict (angles in rad) as a fastbearing Row (angles in degrees)."""
+    return fb.Row(n_balls=d["n_balls"], hertz_constant=d["hertz_constant"], pitch_radius=d["pitch_radius"],
+                  groove_center_distance=d["groove_center_distance"], contact_angle=math.degrees(d["contact_angle"]),
+                  axial_offset=d["axial_offset"], contact_direction=d["contact_direction"], exponent=d["exponent"],
+                  radial_clearance=d["radial_clearance"], axial_preload=d["axial_preload"],
+                  first_ball_angle=math.degrees(d["first_ball_angle"]))
+
+
+def random_rows(rng, n_rows=None, exponent=None) -> list[dict]:
+    """Random but physical rows: clearance or preload or neither, both contact directions."""
+    n_rows = n_rows or int(rng.integers(1, 4))
+    rows = []
+    for _ in range(n_rows):
+        A0 = rng.uniform(0.2, 1.0)
+        kind = rng.integers(0, 3)
+        rows.append(dict(
+            n_balls=int(rng.integers(3, 20)), first_ball_angle=rng.uniform(0, 2 * math.pi),
+            axial_offset=float(rng.choice([0.0, rng.uniform(-30, 30)])), contact_direction=int(rng.choice([-1, 1])),
+            contact_angle=math.radians(rng.uniform(5, 80)), groove_center_distance=A0,
+            pitch_radius=rng.uniform(10, 80), hertz_constant=rng.uniform(1e5, 1e6),
+            exponent=exponent if exponent is not None else float(rng.choice([1.5, rng.uniform(1.1, 2.0)])),
+            radial_clearance=rng.uniform(0, 0.02) if kind == 1 else 0.0,
+            axial_preload=rng.uniform(0, 0.02) if kind == 2 else 0.0))
+    return rows
+
+
+def random_q(rng, scale=0.03):
+    """Random small displacement: mm for translations, rad for tilts."""
+    return np.concatenate([rng.uniform(-scale, scale, 3), rng.uniform(-scale / 40, scale / 40, 2)])
+
+
+@pytest.fixture(params=["DB", "DF", "DT"])
+def paper_double(request):
+    return fb.Bearing.preset("gunduz2013", request.param)
+
+
+@pytest.fixture
+def rng():
+    return np.random.default_rng(20131122)
