@@ -9,6 +9,12 @@ Units: N, mm, rad. q = (dx, dy, dz, bx, by); f = (Fx, Fy, Fz, Mx, My).
 
 from importlib.metadata import PackageNotFoundError, version
 
+from ._cache import ensure_fresh
+
+ensure_fresh()
+
+# isort: split
+
 from . import status
 from .api import (SolveManyResult, SolveResult, ball_loads, num_threads, solve, solve_many, stiffness,
                   stiffness_many)

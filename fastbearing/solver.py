@@ -81,7 +81,8 @@ def _cold_start(f_target, q, balls, D, max_step, work):
         if n_loaded > 0:
             break
         size *= 1.5
-    for rescale in range(3):
+    saved = work[_Y]
+    for rescale in range(4):
         proj = 0.0
         for i in range(5):
             proj += f[i] * D[i] * f_target[i] * D[i]
@@ -91,9 +92,15 @@ def _cold_start(f_target, q, balls, D, max_step, work):
         factor = proj ** (-1.0 / n_exp)
         factor = min(max(factor, 0.05), 20.0)
         for i in range(5):
+            saved[i] = q[i]
             q[i] *= factor
-        ball_loop(q, balls, f, K, False, empty, empty)
+        total, n_loaded, n_rev = ball_loop(q, balls, f, K, False, empty, empty)
         evals += 1
+        if n_loaded == 0:
+            # shrunk back inside the clearance: keep the last guess that loads balls
+            for i in range(5):
+                q[i] = saved[i]
+            break
         if abs(factor - 1.0) < 0.05:
             break
     return evals
@@ -173,7 +180,8 @@ def _descend(f_target, q, f, K, balls, method, tol_scale, rtol, max_iter, D, max
                 tot_t, nl_t, nr_t = ball_loop(qt, balls, ft, Kt, newton, empty, empty)
                 evals += 1
                 rmax_t, r2_t = _scaled_residual(ft, f_target, D, gt)
-                if r2_t <= (1.0 - _ARMIJO * t) * r2:
+                # an unloaded trial point has Kb = 0: no information to go on from
+                if nl_t > 0 and r2_t <= (1.0 - _ARMIJO * t) * r2:
                     accepted = True
                     break
                 t *= 0.5

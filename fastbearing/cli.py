@@ -1,0 +1,122 @@
+"""Command line: ``fastbearing solve ...``.
+
+Bad input gives a one-line error on stderr and exit code 2, never a traceback.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+
+import numpy as np
+
+from .api import DISPLACEMENT_NAMES, LOAD_NAMES, solve, stiffness
+from .bearing_file import load_bearing, preset_bearing, preset_names
+
+EXIT_USAGE = 2
+
+_K_UNITS = "K units: N/mm (rows/cols x,y,z), N*mm/rad (tx,ty with tx,ty), N/rad (translation with tilt)"
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message):
+        if "expected one argument" in message:
+            message += " (a value that starts with '-' must be attached with '=': --load=-1000,0,3000,0,0)"
+        raise _UsageError(f"{self.prog}: {message}")
+
+
+class _UsageError(Exception):
+    pass
+
+
+def _five_numbers(text: str, what: str) -> list[float]:
+    parts = [p for p in text.replace(";", ",").split(",")]
+    if len(parts) != 5:
+        raise ValueError(f"{what} needs 5 comma-separated numbers, got {text!r}")
+    try:
+        values = [float(p) for p in parts]
+    except ValueError:
+        raise ValueError(f"{what} needs 5 comma-separated numbers, got {text!r}") from None
+    if not all(np.isfinite(values)):
+        raise ValueError(f"{what} must be finite, got {text!r}")
+    return values
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = _Parser(prog="fastbearing", description="Stiffness matrices of angular contact ball bearings "
+                     "(Gunduz & Singh 2013). Units: N, mm, rad.")
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
+    p = sub.add_parser("solve", help="Kb at one load or displacement", description=(
+        "Full 5x5 stiffness matrix Kb at one operating point, given the load (solved for the displacement) "
+        "or the displacement (direct substitution). Units: N, mm, rad. A value list that starts with a minus "
+        "sign must be attached with '=': --load=-1000,0,3000,0,0"))
+    which = p.add_mutually_exclusive_group(required=True)
+    which.add_argument("--preset", choices=preset_names(), help="a shipped bearing (with --arrangement)")
+    which.add_argument("--bearing", metavar="FILE.toml", help="a bearing file with a [bearing] table")
+    p.add_argument("--arrangement", choices=["single", "DB", "DF", "DT"],
+                   help="arrangement for --preset (default: the preset's own, DB for gunduz2013)")
+    given = p.add_mutually_exclusive_group(required=True)
+    given.add_argument("--load", metavar="Fx,Fy,Fz,Mx,My",
+                       help="load on the inner ring at the bearing centre: N, N, N, N*mm, N*mm "
+                            "(negative first value: --load=-1000,0,3000,0,0)")
+    given.add_argument("--displacement", metavar="dx,dy,dz,bx,by",
+                       help="inner-ring displacement at the bearing centre: mm, mm, mm, rad, rad "
+                            "(negative first value: --displacement=-0.01,0,0.02,0,0)")
+    p.add_argument("--method", choices=["newton", "broyden"], default="newton",
+                   help="solver for --load (default newton)")
+    p.add_argument("--json", action="store_true", help="print one JSON object (q, f, K, status, converged, "
+                   "iterations, residual) on stdout")
+    return parser
+
+
+def _bearing(args):
+    if args.bearing:
+        if args.arrangement:
+            raise ValueError("--arrangement goes with --preset; a bearing file sets its own arrangement")
+        return load_bearing(args.bearing)
+    return preset_bearing(args.preset, args.arrangement)
+
+
+def _table(result: dict) -> str:
+    labels = ("x", "y", "z", "tx", "ty")
+    K = np.asarray(result["K"])
+    lines = [f"status: {result['status']}  iterations: {result['iterations']}  residual: {result['residual']:.2e}",
+             "q (mm, mm, mm, rad, rad): " + "  ".join(f"{n}={v:.6g}" for n, v in zip(DISPLACEMENT_NAMES, result["q"])),
+             "f (N, N, N, N*mm, N*mm): " + "  ".join(f"{n}={v:.6g}" for n, v in zip(LOAD_NAMES, result["f"])),
+             "Kb (" + _K_UNITS + "):",
+             "      " + "".join(f"{name:>14s}" for name in labels)]
+    for name, row in zip(labels, K):
+        lines.append(f"{name:>4s}  " + "".join(f"{v:14.6g}" for v in row))
+    return "\n".join(lines)
+
+
+def _solve(args) -> int:
+    bearing = _bearing(args)
+    if args.load is not None:
+        result = solve(bearing, _five_numbers(args.load, "--load"), method=args.method).to_dict()
+    else:
+        q = _five_numbers(args.displacement, "--displacement")
+        f, K = stiffness(bearing, q)
+        result = {"q": [float(v) for v in q], "f": f.tolist(), "K": K.tolist(), "status": "direct",
+                  "converged": True, "iterations": 0, "residual": 0.0}
+    if args.json:
+        print(json.dumps(result))
+    else:
+        print(_table(result))
+    return 0 if result["converged"] else 1
+
+
+def main(argv=None) -> int:
+    parser = build_parser()
+    try:
+        args = parser.parse_args(argv)
+        return {"solve": _solve}[args.command](args)
+    except (_UsageError, ValueError) as err:
+        print(f"fastbearing: error: {err}" if not str(err).startswith("fastbearing") else str(err),
+              file=sys.stderr)
+        return EXIT_USAGE
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,179 @@
+"""Load-given solves: the paper's tables, round trips, hard cases, statuses."""
+
+import numpy as np
+import pytest
+from conftest import PAPER_LOADS
+
+import fastbearing as fb
+from fastbearing import status as st
+from fastbearing.solver import WORK_ROWS, solve_case
+
+KILO = np.array([1e3, 1e3, 1e3, 1e6, 1e6])  # kN/mm and MN*mm/rad, as the paper prints them
+D = np.array([1, 1, 1, 1 / 34.75, 1 / 34.75])  # moments / R
+
+# (arrangement, table) -> paper "model" column: kxx, kyy, kzz, kthxthx, kthythy
+PAPER_MODEL = {
+    ("DF", "table3"): [401, 306, 318, 50, 89], ("DB", "table3"): [375, 279, 235, 263, 353],
+    ("DT", "table3"): [313, 38, 51, 18, 159],
+    ("DF", "table4"): [465, 357, 359, 61, 96], ("DB", "table4"): [420, 346, 297, 345, 410],
+    ("DT", "table4"): [345, 274, 221, 151, 209],
+}
+
+
+def assert_round_trip(bearing, f_target, result, rtol=1e-10):
+    """The returned q really produces the load, and f/K are the values at q."""
+    f, K = fb.stiffness(bearing, result.q)
+    assert np.array_equal(f, result.f) and np.array_equal(K, result.K)
+    scale = max(np.abs(np.asarray(f_target) * D).max(), bearing.preload_force)
+    assert np.abs((f - f_target) * D).max() <= rtol * scale * 1.0001
+
+
+@pytest.mark.parametrize("method", ["newton", "broyden"])
+@pytest.mark.parametrize("key", sorted(PAPER_MODEL))
+def test_paper_tables_3_and_4(key, method):
+    arrangement, table = key
+    bearing = fb.Bearing.preset("gunduz2013", arrangement)
+    result = fb.solve(bearing, PAPER_LOADS[table], method=method)
+    assert result.converged, result.status_name
+    assert_round_trip(bearing, PAPER_LOADS[table], result)
+    # Table 3 DF: the printed equations' single solution lies 3-7 % above the
+    # paper's kxx, kyy, kzz (MODEL.md); tested at 8 %, nothing tuned to it.
+    tol = 0.08 if key == ("DF", "table3") else 0.02
+    np.testing.assert_allclose(np.diag(result.K) / KILO, PAPER_MODEL[key], rtol=tol)
+
+
+def test_table3_tandem_shifts_ring_axially():
+    """Zero axial load on a tandem: equilibrium needs the ring about 0.3 mm off axially."""
+    result = fb.solve(fb.Bearing.preset("gunduz2013", "DT"), PAPER_LOADS["table3"])
+    assert result.converged
+    assert -0.35 < result.q[2] < -0.25
+
+
+def test_newton_and_broyden_agree():
+    bearing = fb.Bearing.preset("gunduz2013", "DB")
+    for load in PAPER_LOADS.values():
+        a = fb.solve(bearing, load, method="newton")
+        b = fb.solve(bearing, load, method="broyden")
+        np.testing.assert_allclose(a.q, b.q, rtol=1e-8, atol=1e-12)
+        np.testing.assert_allclose(a.K, b.K, rtol=1e-7, atol=1e-6 * np.abs(a.K).max())
+
+
+@pytest.mark.parametrize("arrangement", ["DB", "DF", "DT"])
+def test_fig6_pure_axial_loads(arrangement):
+    """1-10 kN axial: kxx = kyy, kthx = kthy, rising monotonically, below 1 MN/mm and 1 GN*mm/rad."""
+    bearing = fb.Bearing.preset("gunduz2013", arrangement)
+    loads = np.zeros((10, 5))
+    loads[:, 2] = np.arange(1, 11) * 1000.0
+    r = fb.solve_many(bearing, loads)
+    assert r.converged.all()
+    kxx, kyy, kzz, ktx, kty = (r.K[:, i, i] for i in range(5))
+    np.testing.assert_allclose(kxx, kyy, rtol=1e-9)
+    np.testing.assert_allclose(ktx, kty, rtol=1e-9)
+    for k in (kxx, kzz, kty):
+        assert np.all(np.diff(k) > 0)
+    assert kxx.max() < 1e6 and kzz.max() < 1e6 and kty.max() < 1e9
+
+
+def random_loads(rng, n, axial_positive=False):
+    F = np.column_stack([rng.uniform(-3000, 3000, n), rng.uniform(-3000, 3000, n), rng.uniform(-8000, 8000, n),
+                         rng.uniform(-1e5, 1e5, n), rng.uniform(-1e5, 1e5, n)])
+    if axial_positive:
+        F[:, 2] = np.abs(F[:, 2]) + 500
+    return F
+
+
+# a single row cannot hold a preload by itself, so it has no preload variant
+@pytest.mark.parametrize("arrangement, variant", [(a, v) for a in ("single", "DB", "DF", "DT")
+                                                  for v in ("plain", "clearance", "preload")
+                                                  if (a, v) != ("single", "preload")])
+def test_random_combined_loads_converge_and_round_trip(arrangement, variant, rng):
+    extra = {"plain": {}, "clearance": {"radial_clearance": 0.01}, "preload": {"axial_preload": 0.01}}[variant]
+    bearing = fb.Bearing.preset("gunduz2013", arrangement, **extra)
+    F = random_loads(rng, 400, axial_positive=arrangement in ("single", "DT"))
+    r = fb.solve_many(bearing, F)
+    assert r.converged.all(), np.bincount(r.status & st.OUTCOME_MASK)
+    f, _ = fb.stiffness_many(bearing, r.q)
+    scale = np.maximum(np.abs(F * D).max(1), bearing.preload_force)
+    assert np.all(np.abs((f - F) * D).max(1) <= 1.0001 * 1e-10 * scale)
+    assert np.all(r.residual <= 1e-10)
+
+
+@pytest.mark.parametrize("arrangement", ["DB", "DF", "DT"])
+def test_pure_radial_and_pure_moment_loads(arrangement, rng):
+    bearing = fb.Bearing.preset("gunduz2013", arrangement)
+    radial = np.column_stack([rng.uniform(-5000, 5000, (50, 2)), np.zeros((50, 3))])
+    moment = np.column_stack([np.zeros((50, 3)), rng.uniform(-2e5, 2e5, (50, 2))])
+    for F in (radial, moment):
+        r = fb.solve_many(bearing, F)
+        assert r.converged.all()
+        assert np.all(r.residual <= 1e-10)
+
+
+def test_contact_reversal_is_flagged_not_failed():
+    """A single angular contact row under pure moment can only balance with
+    balls pushed through zero contact angle: converged, with the warning bit."""
+    bearing = fb.Bearing.preset("gunduz2013", "single")
+    r = fb.solve(bearing, [0, 0, 0, 0, 50000.0])
+    assert r.converged and r.status & st.CONTACT_REVERSED
+    assert r.status_name == "converged+contact_reversed"
+    Q, alpha = fb.ball_loads(bearing, r.q)
+    assert np.any((Q > 0) & (alpha < 0))
+    assert not fb.solve(bearing, [0, 0, 3000.0, 0, 0]).status & st.CONTACT_REVERSED
+
+
+def test_zero_load_without_preload_is_unloaded():
+    r = fb.solve(fb.Bearing.preset("gunduz2013", "DB"), np.zeros(5))
+    assert r.status == st.UNLOADED and r.converged
+    assert not r.q.any() and not r.K.any() and not r.f.any()
+
+
+def test_zero_load_with_preload_keeps_ring_centred():
+    bearing = fb.Bearing.preset("gunduz2013", "DB", axial_preload=0.01)
+    r = fb.solve(bearing, np.zeros(5))
+    assert r.status == st.CONVERGED
+    assert np.abs(r.q).max() < 1e-12
+    assert r.K[2, 2] > 0 and r.K[0, 0] > 0
+
+
+def test_preload_stiffens_the_bearing():
+    load = PAPER_LOADS["table4"]
+    k0 = fb.solve(fb.Bearing.preset("gunduz2013", "DB"), load).K
+    k1 = fb.solve(fb.Bearing.preset("gunduz2013", "DB", axial_preload=0.01), load).K
+    assert np.all(np.diag(k1) > np.diag(k0))
+
+
+def test_warm_start_is_used_and_gives_the_same_answer():
+    bearing = fb.Bearing.preset("gunduz2013", "DB")
+    cold = fb.solve(bearing, PAPER_LOADS["table4"])
+    warm = fb.solve(bearing, PAPER_LOADS["table4"], q0=cold.q * 1.01)
+    assert warm.converged and warm.evaluations < cold.evaluations
+    np.testing.assert_allclose(warm.q, cold.q, rtol=1e-9, atol=1e-13)
+
+
+def test_iteration_limit_is_reported_not_hidden():
+    bearing = fb.Bearing.preset("gunduz2013", "DT")
+    r = fb.solve(bearing, PAPER_LOADS["table3"], max_iter=1)
+    assert not r.converged
+    assert st.outcome(r.status) in (st.ITERATION_LIMIT, st.STALLED)
+    assert r.residual > 1e-10
+
+
+def test_nonfinite_input_returns_status_inside_kernel():
+    """The njit solver never raises: a nan load comes back as a status."""
+    bearing = fb.Bearing.preset("gunduz2013", "DB")
+    q, f, K = np.zeros(5), np.empty(5), np.empty((5, 5))
+    code, it, res, ev = solve_case(np.array([np.nan, 0, 0, 0, 0]), q, f, K, bearing.ball_table(), 0, False, 1e-10,
+                                   50, 34.75, 0.0, 0.26, np.empty((WORK_ROWS, 5)))
+    assert code == st.NONFINITE_INPUT and np.isnan(q).all()
+
+
+def test_solve_many_matches_solve_and_is_thread_independent(rng):
+    bearing = fb.Bearing.preset("gunduz2013", "DF")
+    F = random_loads(rng, 257)
+    one = fb.solve_many(bearing, F, threads=1)
+    two = fb.solve_many(bearing, F, threads=2)
+    for name in ("q", "f", "K", "status", "iterations", "residual", "evaluations"):
+        assert np.array_equal(getattr(one, name), getattr(two, name)), name
+    for i in (0, 100, 256):
+        single = fb.solve(bearing, F[i])
+        assert np.array_equal(single.q, one.q[i]) and np.array_equal(single.K, one.K[i])
