@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, fields, replace
+from functools import cached_property
 
 import numpy as np
 
@@ -207,8 +208,18 @@ class Bearing:
 
         ``cage_angle`` (rad) rotates every ball of every row (ball passage).
         Row geometry is folded into two constants per ball: the unloaded net
-        radial and axial separations of the groove centres.
+        radial and axial separations of the groove centres. The table at
+        cage angle 0 is built once per bearing; treat it as read-only.
         """
+        if cage_angle == 0.0:
+            return self._ball_table_at_rest
+        return self._build_ball_table(cage_angle)
+
+    @cached_property
+    def _ball_table_at_rest(self) -> np.ndarray:
+        return self._build_ball_table(0.0)
+
+    def _build_ball_table(self, cage_angle: float) -> np.ndarray:
         table = np.empty((self.n_balls, N_BALL_COLUMNS))
         k = 0
         for i, r in enumerate(self.rows):

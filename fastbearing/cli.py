@@ -16,7 +16,7 @@ from .bearing_file import load_bearing, preset_bearing, preset_names
 
 EXIT_USAGE = 2
 
-_K_UNITS = "K units: N/mm (rows/cols x,y,z), N*mm/rad (tx,ty with tx,ty), N/rad (translation with tilt)"
+_K_UNITS = "N/mm among x, y, z; N*mm/rad among tx, ty; N/rad between the two"
 
 
 class _Parser(argparse.ArgumentParser):

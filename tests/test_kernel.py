@@ -220,3 +220,22 @@ def test_stiffness_many_matches_stiffness(rng):
     for i in (0, 17, 299):
         f1, K1 = fb.stiffness(bearing, qs[i])
         assert np.array_equal(f[i], f1) and np.array_equal(K[i], K1)
+
+
+from hypothesis import given, settings, strategies as hs  # noqa: E402
+
+
+@settings(max_examples=150, deadline=None)
+@given(q=hs.lists(hs.floats(-0.05, 0.05), min_size=3, max_size=3),
+       tilt=hs.lists(hs.floats(-2e-3, 2e-3), min_size=2, max_size=2),
+       angle=hs.floats(0.0, 89.0), arrangement=hs.sampled_from(["single", "DB", "DF", "DT"]))
+def test_kernel_matches_printed_equations_property(q, tilt, angle, arrangement):
+    """Any small displacement, any contact angle up to 89 deg (where the printed forms divide by a small ur)."""
+    rows = paper_row_dicts(arrangement, contact_angle=math.radians(angle))
+    bearing = fb.Bearing.preset("gunduz2013", arrangement, contact_angle=angle)
+    qv = np.array(q + tilt)
+    f, K = fb.stiffness(bearing, qv)
+    f_ref, K_ref = naive_load_stiffness(qv, rows)
+    np.testing.assert_allclose(f, f_ref, rtol=1e-9, atol=1e-9 * max(1.0, np.abs(f_ref).max()))
+    if K_ref.any():
+        assert scaled_error(K, K_ref) < 1e-8
