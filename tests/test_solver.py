@@ -177,3 +177,23 @@ def test_solve_many_matches_solve_and_is_thread_independent(rng):
     for i in (0, 100, 256):
         single = fb.solve(bearing, F[i])
         assert np.array_equal(single.q, one.q[i]) and np.array_equal(single.K, one.K[i])
+
+
+@pytest.mark.parametrize("arrangement, extra", [("DT", {}), ("DB", {"radial_clearance": 0.01}),
+                                                ("DF", {"axial_preload": 0.01})])
+def test_load_stepping_fallback_converges_on_its_own(arrangement, extra):
+    """The continuation fallback (tau*f, tau -> 1) reaches the same solution as the main path."""
+    from fastbearing.api import solver_settings
+    from fastbearing.solver import _D, _FC, _continuation
+
+    bearing = fb.Bearing.preset("gunduz2013", arrangement, **extra)
+    load = np.array(PAPER_LOADS["table4"])
+    o = solver_settings(bearing)
+    work = np.empty((WORK_ROWS, 5))
+    work[_D] = [1, 1, 1, 1 / o["length_scale"], 1 / o["length_scale"]]
+    q, f, K = np.zeros(5), np.empty(5), np.empty((5, 5))
+    scale = max(np.abs(load * work[_D]).max(), o["force_floor"])
+    code, it, res, ev = _continuation(load, q, f, K, bearing.ball_table(), 0, scale, o["rtol"], o["max_iter"],
+                                      work[_D], o["max_step"], work[_FC], work)
+    assert code == st.CONVERGED
+    np.testing.assert_allclose(q, fb.solve(bearing, load).q, rtol=1e-8, atol=1e-12)
