@@ -10,14 +10,16 @@ import hashlib
 from pathlib import Path
 
 _PACKAGE = Path(__file__).parent
+#: Modules holding @njit code (and the constants it compiles in).
+KERNEL_MODULES = ("config.py", "status.py", "kernel.py", "linalg.py", "solver.py", "sweep.py")
 _STAMP = _PACKAGE / "__pycache__" / "fastbearing-numba-cache.stamp"
 
 
 def source_hash() -> str:
     h = hashlib.sha256()
-    for path in sorted(_PACKAGE.glob("*.py")):
-        h.update(path.name.encode())
-        h.update(path.read_bytes())
+    for name in KERNEL_MODULES:
+        h.update(name.encode())
+        h.update((_PACKAGE / name).read_bytes())
     return h.hexdigest()
 
 

@@ -198,9 +198,10 @@ def solve(bearing: Bearing, f, q0=None, method: str = "newton", rtol=None, max_i
     f_out = np.empty(5)
     K = np.empty((5, 5))
     work = np.empty((WORK_ROWS, 5))
+    empty = work[0, 0:0]
     code, it, res, ev = solve_case(f_target, q, f_out, K, bearing.ball_table(), opts["method"], warm, opts["rtol"],
                                    opts["max_iter"], opts["length_scale"], opts["force_floor"], opts["max_step"],
-                                   work)
+                                   work, empty, empty)
     return SolveResult(q, f_out, K, int(code), int(it), float(res), int(ev))
 
 

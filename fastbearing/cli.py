@@ -67,7 +67,31 @@ def build_parser() -> argparse.ArgumentParser:
                    help="solver for --load (default newton)")
     p.add_argument("--json", action="store_true", help="print one JSON object (q, f, K, status, converged, "
                    "iterations, residual) on stdout")
+    m = sub.add_parser("loadmap", help="Kb over a grid or table of loads or displacements, to HDF5",
+                       description=(
+                           "Compute a load map: Kb (and q, f, status, load distribution) at every case of the "
+                           "[loadmap] grid of CONFIG.toml, streamed block by block into an HDF5 file that "
+                           "xarray opens (engine h5netcdf). Units: N, mm, rad; moments N*mm. An interrupted run "
+                           "(Ctrl-C, kill) keeps its finished blocks in OUT.h5.part: continue with --resume."))
+    m.add_argument("config", metavar="CONFIG.toml", help="config with [bearing] and [loadmap] tables")
+    m.add_argument("-o", "--output", metavar="OUT.h5", help="output file (default: CONFIG with suffix .h5)")
+    m.add_argument("--threads", type=int, metavar="N",
+                   help="worker threads (default: NUMBA_NUM_THREADS, all cores); results do not depend on it")
+    m.add_argument("--resume", action="store_true", help="continue an interrupted run of the same config")
+    m.add_argument("--overwrite", action="store_true", help="replace an existing output or unfinished run")
+    m.add_argument("--no-progress", action="store_true", help="no progress bar even on a terminal")
     return parser
+
+
+def _loadmap(args) -> int:
+    from .loadmap import loadmap
+
+    try:
+        loadmap(args.config, args.output, threads=args.threads, resume=args.resume, overwrite=args.overwrite,
+                progress=False if args.no_progress else None)
+    except KeyboardInterrupt:
+        return 130
+    return 0
 
 
 def _bearing(args):
@@ -111,7 +135,7 @@ def main(argv=None) -> int:
     parser = build_parser()
     try:
         args = parser.parse_args(argv)
-        return {"solve": _solve}[args.command](args)
+        return {"solve": _solve, "loadmap": _loadmap}[args.command](args)
     except (_UsageError, ValueError) as err:
         print(f"fastbearing: error: {err}" if not str(err).startswith("fastbearing") else str(err),
               file=sys.stderr)

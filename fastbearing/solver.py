@@ -235,7 +235,8 @@ def _descend(f_target, q, f, K, balls, method, tol_scale, rtol, max_iter, D, max
 
 
 @njit(cache=CACHE, fastmath=FASTMATH, nogil=True)
-def solve_case(f_target, q, f, K, balls, method, warm, rtol, max_iter, length_scale, force_floor, max_step, work):
+def solve_case(f_target, q, f, K, balls, method, warm, rtol, max_iter, length_scale, force_floor, max_step, work,
+               ball_load, contact_angle):
     """Find q with f(q) = f_target; fill q (5), f (5) and Kb (5x5) in place.
 
     Parameters
@@ -264,6 +265,9 @@ def solve_case(f_target, q, f, K, balls, method, warm, rtol, max_iter, length_sc
         Largest step per iteration in scaled units (mm).
     work : (WORK_ROWS, 5) float64
         Scratch.
+    ball_load, contact_angle : (n_balls,) or (0,) float64, out
+        Per-ball load (N) and contact angle (rad) at the returned q, as in
+        :func:`fastbearing.kernel.ball_loop`; empty arrays skip recording.
 
     Returns
     -------
@@ -285,6 +289,9 @@ def solve_case(f_target, q, f, K, balls, method, warm, rtol, max_iter, length_sc
     for i in range(5):
         finite = finite and math.isfinite(f_target[i]) and (not warm or math.isfinite(q[i]))
     if not finite:
+        for j in range(ball_load.shape[0]):
+            ball_load[j] = math.nan
+            contact_angle[j] = math.nan
         for i in range(5):
             q[i] = math.nan
             f[i] = math.nan
@@ -298,10 +305,8 @@ def solve_case(f_target, q, f, K, balls, method, warm, rtol, max_iter, length_sc
     if scale == 0.0:
         for i in range(5):
             q[i] = 0.0
-            f[i] = 0.0
-            for j in range(5):
-                K[i, j] = 0.0
-        return UNLOADED, 0, 0.0, 0
+        ball_loop(q, balls, f, K, True, ball_load, contact_angle)
+        return UNLOADED, 0, 0.0, 1
 
     iterations = 0
     evals = 0
@@ -324,8 +329,7 @@ def solve_case(f_target, q, f, K, balls, method, warm, rtol, max_iter, length_sc
                                              max_step, fc, work)
         iterations += it
         evals += ev
-    empty = work[0, 0:0]
-    total, n_loaded, n_rev = ball_loop(q, balls, f, K, True, empty, empty)
+    total, n_loaded, n_rev = ball_loop(q, balls, f, K, True, ball_load, contact_angle)
     evals += 1
     rmax, r2 = _scaled_residual(f, f_target, D, work[_G])
     if status == CONVERGED and n_rev > 0:

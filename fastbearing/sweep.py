@@ -21,9 +21,10 @@ def solve_sweep(f_targets, q, f, K, status, iterations, residual, evaluations, b
     n_blocks = (n + block - 1) // block
     for b in prange(n_blocks):
         work = np.empty((WORK_ROWS, 5))
+        empty = work[0, 0:0]
         for i in range(b * block, min(n, (b + 1) * block)):
             st, it, res, ev = solve_case(f_targets[i], q[i], f[i], K[i], balls, method, warm, rtol, max_iter,
-                                         length_scale, force_floor, max_step, work)
+                                         length_scale, force_floor, max_step, work, empty, empty)
             status[i] = st
             iterations[i] = it
             residual[i] = res
@@ -39,3 +40,78 @@ def stiffness_sweep(q, f, K, balls, block):
     for b in prange(n_blocks):
         for i in range(b * block, min(n, (b + 1) * block)):
             ball_loop(q[i], balls, f[i], K[i], True, empty, empty)
+
+
+@njit(cache=CACHE, nogil=True)
+def row_summary(ball_load, contact_angle, ball_row, max_load, n_loaded, min_angle, max_angle):
+    """Per-row load distribution from one evaluation's per-ball record.
+
+    Largest ball load (N), loaded-ball count, smallest and largest contact
+    angle of the loaded balls (rad; nan for a row with no loaded ball).
+    """
+    for r in range(max_load.shape[0]):
+        max_load[r] = 0.0
+        n_loaded[r] = 0
+        min_angle[r] = np.inf
+        max_angle[r] = -np.inf
+    for j in range(ball_load.shape[0]):
+        r = ball_row[j]
+        if ball_load[j] > 0.0:
+            max_load[r] = max(max_load[r], ball_load[j])
+            n_loaded[r] += 1
+            min_angle[r] = min(min_angle[r], contact_angle[j])
+            max_angle[r] = max(max_angle[r], contact_angle[j])
+        elif ball_load[j] != ball_load[j]:  # nan: no valid solution
+            max_load[r] = np.nan
+    for r in range(max_load.shape[0]):
+        if n_loaded[r] == 0:
+            min_angle[r] = np.nan
+            max_angle[r] = np.nan
+
+
+#: Lines of a block are shared among this many scratch groups, a fixed number,
+#: so the work a case sees never depends on the thread count.
+MAP_GROUPS = 64
+
+
+@njit(parallel=True, cache=CACHE, nogil=True)
+def map_sweep(inputs, given_load, line_length, q, f, K, status, iterations, residual, max_load, n_loaded,
+              min_angle, max_angle, balls, ball_row, method, rtol, max_iter, length_scale, force_floor, max_step):
+    """One block of a load or displacement map, in place.
+
+    ``inputs`` (N, 5) are loads (N, N*mm) when ``given_load`` else
+    displacements (mm, rad). Cases come in lines of ``line_length``
+    consecutive cases along the fastest grid axis: each line starts cold and
+    each later case starts from its neighbour's converged q (continuation),
+    falling back to a cold start inside the solver when that fails.
+    """
+    n_lines = inputs.shape[0] // line_length
+    groups = min(n_lines, MAP_GROUPS)
+    n_balls = balls.shape[0]
+    for g in prange(groups):
+        work = np.empty((WORK_ROWS, 5))
+        ball_load = np.empty(n_balls)
+        contact_angle = np.empty(n_balls)
+        for line in range(g, n_lines, groups):
+            for k in range(line_length):
+                i = line * line_length + k
+                if given_load:
+                    warm = k > 0 and (status[i - 1] & 15) == 0
+                    if warm:
+                        for d in range(5):
+                            q[i, d] = q[i - 1, d]
+                    st, it, res, ev = solve_case(inputs[i], q[i], f[i], K[i], balls, method, warm, rtol, max_iter,
+                                                 length_scale, force_floor, max_step, work, ball_load,
+                                                 contact_angle)
+                    status[i] = st
+                    iterations[i] = it
+                    residual[i] = res
+                else:
+                    for d in range(5):
+                        q[i, d] = inputs[i, d]
+                    ball_loop(q[i], balls, f[i], K[i], True, ball_load, contact_angle)
+                    status[i] = 0
+                    iterations[i] = 0
+                    residual[i] = 0.0
+                row_summary(ball_load, contact_angle, ball_row, max_load[i], n_loaded[i], min_angle[i],
+                            max_angle[i])

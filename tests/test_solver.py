@@ -163,7 +163,7 @@ def test_nonfinite_input_returns_status_inside_kernel():
     bearing = fb.Bearing.preset("gunduz2013", "DB")
     q, f, K = np.zeros(5), np.empty(5), np.empty((5, 5))
     code, it, res, ev = solve_case(np.array([np.nan, 0, 0, 0, 0]), q, f, K, bearing.ball_table(), 0, False, 1e-10,
-                                   50, 34.75, 0.0, 0.26, np.empty((WORK_ROWS, 5)))
+                                   50, 34.75, 0.0, 0.26, np.empty((WORK_ROWS, 5)), np.empty(0), np.empty(0))
     assert code == st.NONFINITE_INPUT and np.isnan(q).all()
 
 

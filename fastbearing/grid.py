@@ -1,0 +1,211 @@
+"""Operating points: grids of loads or displacements, or cases from a file.
+
+An axis is a constant, a list, or a linspace table ``{start, stop, num}``.
+Lists and linspaces become grid dimensions in the canonical order
+(Fx, Fy, Fz, Mx, My) or (dx, dy, dz, bx, by); constants are scalar
+coordinates. Cases run in C order, so the last grid axis varies fastest and
+a "line" is one run along it (the unit of continuation).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .api import DISPLACEMENT_NAMES, DISPLACEMENT_UNITS, LOAD_NAMES, LOAD_UNITS
+
+AXES = {"load": LOAD_NAMES, "displacement": DISPLACEMENT_NAMES}
+UNITS = {"load": LOAD_UNITS, "displacement": DISPLACEMENT_UNITS}
+LONG_NAMES = {
+    "Fx": "radial force x on the inner ring", "Fy": "radial force y on the inner ring",
+    "Fz": "axial force on the inner ring", "Mx": "moment about x on the inner ring",
+    "My": "moment about y on the inner ring",
+    "dx": "inner-ring displacement x", "dy": "inner-ring displacement y", "dz": "inner-ring axial displacement",
+    "bx": "inner-ring tilt about x", "by": "inner-ring tilt about y",
+}
+
+
+@dataclass(frozen=True)
+class Axis:
+    """One of the five inputs: its values and whether it is a grid dimension."""
+
+    name: str
+    values: np.ndarray
+    units: str
+    is_dim: bool
+
+
+def parse_axis(name: str, spec, where: str) -> tuple[np.ndarray, bool]:
+    """Values of one axis from a constant, a list or ``{start, stop, num}``; ValueError names ``where.name``."""
+    field = f"{where}.{name}"
+    if isinstance(spec, dict):
+        unknown = sorted(set(spec) - {"start", "stop", "num"})
+        missing = sorted({"start", "stop", "num"} - set(spec))
+        if unknown or missing:
+            raise ValueError(f"{field} as a table needs exactly start, stop, num; "
+                             f"unknown {unknown}, missing {missing}")
+        num = spec["num"]
+        if isinstance(num, bool) or not isinstance(num, int) or num < 1:
+            raise ValueError(f"{field}.num must be an integer >= 1, got {num!r}")
+        start, stop = (_finite(f"{field}.{k}", spec[k]) for k in ("start", "stop"))
+        return np.linspace(start, stop, num), True
+    if isinstance(spec, list):
+        if not spec:
+            raise ValueError(f"{field} is an empty list; give at least one value")
+        return np.array([_finite(f"{field}[{i}]", v) for i, v in enumerate(spec)]), True
+    return np.array([_finite(field, spec)]), False
+
+
+def _finite(field: str, value) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise ValueError(f"{field} must be a number, got {value!r}")
+    if not math.isfinite(value):
+        raise ValueError(f"{field} must be finite, got {value!r}")
+    return float(value)
+
+
+@dataclass(frozen=True)
+class CaseSet:
+    """The cases of a map: a grid over axes, or an explicit (N, 5) table.
+
+    Attributes
+    ----------
+    given : {"load", "displacement"}
+    axes : tuple of Axis
+        The five inputs in canonical order (grid); empty for a case table.
+    table : ndarray (N, 5) or None
+        Explicit cases (from a file).
+    """
+
+    given: str
+    axes: tuple[Axis, ...] = ()
+    table: np.ndarray | None = None
+
+    @property
+    def dims(self) -> tuple[Axis, ...]:
+        return tuple(a for a in self.axes if a.is_dim) if self.table is None else ()
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        if self.table is not None:
+            return (self.table.shape[0],)
+        return tuple(len(a.values) for a in self.dims) or (1,)
+
+    @property
+    def dim_names(self) -> tuple[str, ...]:
+        if self.table is not None:
+            return ("case",)
+        return tuple(a.name for a in self.dims) or ("case",)
+
+    @property
+    def n_cases(self) -> int:
+        return int(np.prod(self.shape))
+
+    @property
+    def line_length(self) -> int:
+        """Cases per continuation line: the fastest grid axis; 1 for a case table (each case cold)."""
+        return 1 if self.table is not None or not self.dims else self.shape[-1]
+
+    def inputs(self, start: int, stop: int) -> np.ndarray:
+        """(stop - start, 5) inputs of the flat case range, C order over the grid."""
+        if self.table is not None:
+            return np.ascontiguousarray(self.table[start:stop])
+        out = np.empty((stop - start, 5))
+        index = np.unravel_index(np.arange(start, stop), self.shape) if self.dims else ()
+        k = 0
+        for d, axis in enumerate(self.axes):
+            if axis.is_dim:
+                out[:, d] = axis.values[index[k]]
+                k += 1
+            else:
+                out[:, d] = axis.values[0]
+        return out
+
+
+def read_case_file(path: Path, where: str) -> np.ndarray:
+    """N x 5 cases from .npy, .csv (comma separated, optional header line) or .h5 (dataset ``cases``)."""
+    if not path.exists():
+        raise ValueError(f"{where}: case file not found: {path}")
+    suffix = path.suffix.lower()
+    try:
+        if suffix == ".npy":
+            table = np.load(path, allow_pickle=False)
+        elif suffix == ".csv":
+            with path.open() as fh:
+                first = fh.readline()
+            skip = 0 if _is_numeric_row(first) else 1
+            table = np.loadtxt(path, delimiter=",", skiprows=skip, ndmin=2)
+        elif suffix in (".h5", ".hdf5"):
+            import h5py
+
+            with h5py.File(path, "r") as fh:
+                if "cases" not in fh:
+                    raise ValueError(f"{where}: {path} has no dataset 'cases' (N x 5)")
+                table = fh["cases"][...]
+        else:
+            raise ValueError(f"{where}: case file must be .npy, .csv or .h5, got {path.name!r}")
+    except (OSError, ValueError) as err:
+        if str(err).startswith(where):
+            raise
+        raise ValueError(f"{where}: cannot read {path}: {err}") from None
+    table = np.asarray(table, dtype=np.float64)
+    if table.ndim != 2 or table.shape[1] != 5 or table.shape[0] < 1:
+        raise ValueError(f"{where}: {path} must hold an N x 5 table with N >= 1, got shape {table.shape}")
+    bad = ~np.isfinite(table)
+    if bad.any():
+        i, j = np.argwhere(bad)[0]
+        raise ValueError(f"{where}: {path} case {i} column {j} is not finite ({table[i, j]!r})")
+    return np.ascontiguousarray(table)
+
+
+def _is_numeric_row(line: str) -> bool:
+    try:
+        [float(x) for x in line.split(",")]
+        return True
+    except ValueError:
+        return False
+
+
+@dataclass(frozen=True)
+class Block:
+    """A block of cases: a flat range and the same cases as a hyperslab of the grid."""
+
+    index: int
+    start: int
+    stop: int
+    slab: tuple[slice | int, ...]
+
+    @property
+    def size(self) -> int:
+        return self.stop - self.start
+
+
+def plan_blocks(shape: tuple[int, ...], line_length: int, chunk: int) -> list[Block]:
+    """Split the grid into blocks of at most ``chunk`` cases (at least one whole line each).
+
+    Each block is a hyperslab: fixed leading indices, a range along one
+    dimension and every trailing dimension whole, so it is contiguous in C
+    order and one HDF5 write. Lines are never split, which keeps results
+    independent of ``chunk``.
+    """
+    if line_length == 1 and len(shape) == 1:
+        return [Block(k, a, min(a + chunk, shape[0]), (slice(a, min(a + chunk, shape[0])),))
+                for k, a in enumerate(range(0, shape[0], chunk))]
+    m = len(shape)
+    suffix = [int(np.prod(shape[j:])) for j in range(m)]
+    j = next((j for j in range(m) if suffix[j] <= chunk), m - 1)
+    unit = suffix[j]
+    if j == 0:
+        return [Block(0, 0, unit, tuple(slice(None) for _ in shape))]
+    step = max(1, chunk // unit)
+    blocks = []
+    for lead in np.ndindex(*shape[:j - 1]):
+        for a in range(0, shape[j - 1], step):
+            b = min(a + step, shape[j - 1])
+            start = int(np.ravel_multi_index(lead + (a,), shape[:j])) * unit
+            slab = tuple(int(i) for i in lead) + (slice(a, b),) + tuple(slice(None) for _ in shape[j:])
+            blocks.append(Block(len(blocks), start, start + (b - a) * unit, slab))
+    return blocks

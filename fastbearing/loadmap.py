@@ -1,0 +1,365 @@
+"""Load maps: Kb at every case of a grid (or table) of loads or displacements, streamed to HDF5.
+
+Flow: config (TOML) -> bearing + cases -> blocks -> parallel sweep per block
+-> HDF5 block by block. Memory is bounded by one block; a killed run resumes
+from its ``.part`` file; nothing is overwritten without ``overwrite=True``.
+Units: N, mm, rad.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import signal
+import sys
+import threading
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from . import status as st, storage
+from .api import DISPLACEMENT_UNITS, LOAD_UNITS, num_threads, solver_settings
+from .bearing import ROW, Bearing
+from .bearing_file import bearing_from_table, read_toml
+from .grid import AXES, LONG_NAMES, UNITS, Axis, CaseSet, parse_axis, plan_blocks, read_case_file
+from .sweep import map_sweep
+
+DEFAULT_CHUNK = 65536
+_LOADMAP_KEYS = {"given", "cases", "chunk", "compression", "method", "rtol", "max_iter"}
+
+
+@dataclass(frozen=True)
+class LoadMapConfig:
+    """A parsed load-map config: the bearing, the cases and how to run them."""
+
+    bearing: Bearing
+    cases: CaseSet
+    chunk: int
+    compression: str
+    method: str
+    rtol: float | None
+    max_iter: int | None
+    text: str
+    source: Path | None
+    fingerprint: str
+
+
+def read_config(config) -> LoadMapConfig:
+    """Parse a load-map config from a TOML path or an already-parsed dict; ValueError names the field."""
+    source = None
+    if isinstance(config, dict):
+        doc = config
+        text = json.dumps(config, sort_keys=True, default=str)
+    else:
+        source = Path(config)
+        doc = read_toml(source)
+        text = source.read_text()
+    unknown = sorted(set(doc) - {"bearing", "loadmap"})
+    if unknown:
+        raise ValueError(f"unknown top-level key(s) {unknown}; a load-map config holds [bearing] and [loadmap]")
+    for table in ("bearing", "loadmap"):
+        if table not in doc:
+            raise ValueError(f"missing the [{table}] table")
+    bearing = bearing_from_table(doc["bearing"])
+    spec = doc["loadmap"]
+    if not isinstance(spec, dict):
+        raise ValueError("loadmap must be a table")
+    given = spec.get("given", "load")
+    if given not in AXES:
+        raise ValueError(f"loadmap.given must be 'load' or 'displacement', got {given!r}")
+    names = AXES[given]
+    other = AXES["displacement" if given == "load" else "load"]
+    for key in spec:
+        if key in other:
+            raise ValueError(f"loadmap.{key} is not an axis for given = {given!r}; its axes are {list(names)}")
+        if key not in names and key not in _LOADMAP_KEYS:
+            raise ValueError(f"loadmap: unknown key {key!r}; allowed: {sorted(_LOADMAP_KEYS | set(names))}")
+    chunk = spec.get("chunk", DEFAULT_CHUNK)
+    if isinstance(chunk, bool) or not isinstance(chunk, int) or chunk < 1:
+        raise ValueError(f"loadmap.chunk must be an integer >= 1 (cases per block), got {chunk!r}")
+    compression = spec.get("compression", "none")
+    if compression not in storage.COMPRESSIONS:
+        raise ValueError(f"loadmap.compression must be one of {list(storage.COMPRESSIONS)}, got {compression!r}")
+    method = spec.get("method", "newton")
+    rtol, max_iter = spec.get("rtol"), spec.get("max_iter")
+    solver_settings(bearing, method, rtol, max_iter)  # validates method, rtol, max_iter
+    digest = hashlib.sha256(text.encode())
+    if "cases" in spec:
+        axes_given = [k for k in spec if k in names]
+        if axes_given:
+            raise ValueError(f"loadmap.cases replaces the grid axes; remove {axes_given}")
+        if not isinstance(spec["cases"], str):
+            raise ValueError(f"loadmap.cases must be a file name (.npy, .csv or .h5), got {spec['cases']!r}")
+        path = Path(spec["cases"])
+        if source is not None and not path.is_absolute():
+            path = source.parent / path
+        table = read_case_file(path, "loadmap.cases")
+        digest.update(table.tobytes())
+        cases = CaseSet(given, table=table)
+    else:
+        axes = []
+        for name, units in zip(names, UNITS[given]):
+            values, is_dim = parse_axis(name, spec.get(name, 0.0), "loadmap")
+            axes.append(Axis(name, values, units, is_dim))
+        cases = CaseSet(given, axes=tuple(axes))
+    return LoadMapConfig(bearing, cases, chunk, compression, method, rtol, max_iter, text, source,
+                         digest.hexdigest())
+
+
+def _variables(given: str) -> list[storage.Variable]:
+    V = storage.Variable
+    flag = {"flag_values": np.array([st.CONVERGED, st.UNLOADED, st.ITERATION_LIMIT, st.SINGULAR,
+                                     st.NONFINITE_INPUT, st.STALLED], np.int8),
+            "flag_meanings": "converged unloaded iteration_limit singular nonfinite_input stalled",
+            "comment": f"low 4 bits: outcome; +{st.CONTACT_REVERSED}: warning contact_reversed (a loaded ball's "
+                       "contact angle crossed zero against its row's contact direction)"}
+    return [
+        V("q", ("dof",), "f8", ", ".join(DISPLACEMENT_UNITS),
+          "inner-ring displacement (dx, dy, dz, bx, by) at the bearing centre"),
+        V("f", ("dof",), "f8", ", ".join(LOAD_UNITS), "load on the inner ring (Fx, Fy, Fz, Mx, My) at q"),
+        V("K", ("dof", "dof_col"), "f8", "N/mm, N*mm/rad, N/rad",
+          "bearing stiffness matrix Kb = df/dq (N/mm among x,y,z; N*mm/rad among tx,ty; N/rad between)"),
+        V("status", (), "i1", "1", "solver status" if given == "load" else "status (0: direct substitution)",
+          flag),
+        V("iterations", (), "i4", "1", "solver iterations"),
+        V("residual", (), "f8", "1", "relative residual max|f(q) - f_target| / max|f_target|, moments / R"),
+        V("max_ball_load", ("row",), "f8", "N", "largest ball load per row"),
+        V("loaded_balls", ("row",), "i2", "1", "number of loaded balls per row"),
+        V("min_contact_angle", ("row",), "f8", "rad", "smallest loaded contact angle per row (on the row's "
+          "contact direction; nan if no ball is loaded)"),
+        V("max_contact_angle", ("row",), "f8", "rad", "largest loaded contact angle per row"),
+    ]
+
+
+class _Buffers:
+    """Per-block result arrays, allocated once for the largest block and reused."""
+
+    def __init__(self, size: int, n_rows: int):
+        self.q = np.empty((size, 5))
+        self.f = np.empty((size, 5))
+        self.K = np.empty((size, 5, 5))
+        self.status = np.empty(size, np.int8)
+        self.iterations = np.empty(size, np.int32)
+        self.residual = np.empty(size)
+        self.max_ball_load = np.empty((size, n_rows))
+        self.loaded_balls = np.empty((size, n_rows), np.int16)
+        self.min_contact_angle = np.empty((size, n_rows))
+        self.max_contact_angle = np.empty((size, n_rows))
+
+    def view(self, n: int) -> dict[str, np.ndarray]:
+        return {k: v[:n] for k, v in vars(self).items()}
+
+
+class _Interrupt:
+    """Ctrl-C sets a flag checked between blocks; a second Ctrl-C stops at once."""
+
+    def __init__(self):
+        self.requested = False
+        self._old = None
+
+    def __enter__(self):
+        if threading.current_thread() is threading.main_thread():
+            self._old = signal.signal(signal.SIGINT, self._handle)
+        return self
+
+    def _handle(self, signum, frame):
+        if self.requested:
+            raise KeyboardInterrupt
+        self.requested = True
+
+    def __exit__(self, *exc):
+        if self._old is not None:
+            signal.signal(signal.SIGINT, self._old)
+
+
+def _prepare_output(cfg: LoadMapConfig, output, resume: bool, overwrite: bool) -> tuple[Path, Path, bool]:
+    """Final path, working path, and whether to resume; refuses to clobber anything unasked."""
+    if output is None:
+        if cfg.source is None:
+            raise ValueError("output is required when the config is not a file")
+        output = cfg.source.with_suffix(".h5")
+    out = Path(output)
+    part = storage.part_path(out)
+    if resume and overwrite:
+        raise ValueError("choose one of resume and overwrite")
+    if part.exists():
+        if resume:
+            import h5py
+
+            try:
+                with h5py.File(part, "r") as fh:
+                    same = fh.attrs.get("config_fingerprint") == cfg.fingerprint
+            except OSError:
+                raise ValueError(f"{part} is not a readable partial run; start again with overwrite") from None
+            if not same:
+                raise ValueError(f"{part} was started from a different config (or case file); "
+                                 "resume needs the same config, or start again with overwrite")
+            return out, part, True
+        if not overwrite:
+            raise ValueError(f"an unfinished run exists at {part}: resume it (--resume) or start again "
+                             "(--overwrite)")
+        part.unlink()
+    elif resume and not out.exists():
+        raise ValueError(f"nothing to resume: {part} does not exist")
+    if out.exists() and not overwrite and not resume:
+        raise ValueError(f"{out} exists; pass --overwrite (overwrite=True) to replace it")
+    return out, part, False
+
+
+def _create(cfg: LoadMapConfig, part: Path, blocks) -> None:
+    cases = cfg.cases
+    C = storage.Coordinate
+    if cases.table is not None:
+        case_dims = [C("case", np.arange(cases.n_cases), "1", "case number in the case file")]
+        case_coords = [C(n, cases.table[:, i], u, LONG_NAMES[n])
+                       for i, (n, u) in enumerate(zip(AXES[cases.given], UNITS[cases.given]))]
+        scalars = []
+    elif cases.dims:
+        case_dims = [C(a.name, a.values, a.units, LONG_NAMES[a.name]) for a in cases.dims]
+        case_coords = []
+        scalars = [C(a.name, a.values, a.units, LONG_NAMES[a.name], False) for a in cases.axes if not a.is_dim]
+    else:
+        case_dims = [C("case", np.arange(1), "1", "the single case")]
+        case_coords = []
+        scalars = [C(a.name, a.values, a.units, LONG_NAMES[a.name], False) for a in cases.axes]
+    import h5py
+
+    labels = np.array(storage.DOF_LABELS, dtype=h5py.string_dtype())
+    extra_dims = [C("dof", labels, "1", "degree of freedom: x, y, z translations; tx, ty tilts"),
+                  C("dof_col", labels, "1", "degree of freedom (column of K)"),
+                  C("row", np.arange(cfg.bearing.n_rows), "1", "bearing row (as in the bearing definition)")]
+    opts = solver_settings(cfg.bearing, cfg.method, cfg.rtol, cfg.max_iter)
+    attrs = {
+        "title": "fastbearing load map", "Conventions": "CF-1.8", "given": cases.given,
+        "units_convention": "N, mm, rad; moments N*mm; stiffness N/mm, N*mm/rad, N/rad",
+        "config": cfg.text, "config_source": str(cfg.source or ""), "config_fingerprint": cfg.fingerprint,
+        "bearing": cfg.bearing.describe(), "bearing_json": json.dumps(cfg.bearing.to_dict()),
+        "solver_method": cfg.method, "solver_rtol": opts["rtol"], "solver_max_iter": opts["max_iter"],
+        "chunk": cfg.chunk, "compression": cfg.compression, "n_cases": cases.n_cases, "n_blocks": len(blocks),
+        **storage.versions(),
+    }
+    storage.create(part, case_dims, extra_dims, scalars, _variables(cases.given), attrs, len(blocks),
+                   case_coords)
+
+
+def _progress(total: int, initial: int, show):
+    show = sys.stderr.isatty() if show is None else show
+    if not show:
+        return None
+    from tqdm import tqdm
+
+    return tqdm(total=total, initial=initial, unit="case", unit_scale=True, dynamic_ncols=True, smoothing=0.1)
+
+
+def loadmap(config, output=None, *, threads=None, resume=False, overwrite=False, progress=None,
+            as_dataset=False):
+    """Compute a load map and write it to HDF5.
+
+    Parameters
+    ----------
+    config : str, Path or dict
+        A TOML config file with ``[bearing]`` and ``[loadmap]`` tables, or the same as a dict.
+    output : str or Path, optional
+        Output file (default: the config's path with suffix .h5). An existing
+        file is never replaced unless ``overwrite``.
+    threads : int, optional
+        Numba threads (default: NUMBA_NUM_THREADS). Results do not depend on it.
+    resume : bool
+        Continue an interrupted run from ``OUTPUT.part`` (same config only).
+    overwrite : bool
+        Replace an existing output or discard an unfinished run.
+    progress : bool, optional
+        Progress bar on stderr (default: only when stderr is a terminal).
+    as_dataset : bool
+        Return an ``xarray.Dataset`` (needs xarray and h5netcdf) instead of the path.
+
+    Returns
+    -------
+    Path or xarray.Dataset
+    """
+    cfg = config if isinstance(config, LoadMapConfig) else read_config(config)
+    out, part, resuming = _prepare_output(cfg, output, resume, overwrite)
+    if resume and not part.exists():
+        print(f"fastbearing: {out} is already complete; nothing to resume", file=sys.stderr)
+        return open_dataset(out) if as_dataset else out
+    cases = cfg.cases
+    blocks = plan_blocks(cases.shape, cases.line_length, cfg.chunk)
+    if not resuming:
+        _create(cfg, part, blocks)
+    opts = solver_settings(cfg.bearing, cfg.method, cfg.rtol, cfg.max_iter)
+    balls = cfg.bearing.ball_table()
+    ball_row = balls[:, ROW].astype(np.int64)
+    buffers = _Buffers(max(b.size for b in blocks), cfg.bearing.n_rows)
+    given_load = cases.given == "load"
+    pf = storage.PartFile(part)
+    started = time.perf_counter()
+    computed = 0
+    try:
+        done = pf.done_mask()
+        bar = _progress(cases.n_cases, sum(b.size for b in blocks if done[b.index]), progress)
+        with num_threads(threads), _Interrupt() as interrupt:
+            for block in blocks:
+                if done[block.index]:
+                    continue
+                res = buffers.view(block.size)
+                map_sweep(cases.inputs(block.start, block.stop), given_load, cases.line_length, res["q"], res["f"],
+                          res["K"], res["status"], res["iterations"], res["residual"], res["max_ball_load"],
+                          res["loaded_balls"], res["min_contact_angle"], res["max_contact_angle"], balls, ball_row,
+                          opts["method"], opts["rtol"], opts["max_iter"], opts["length_scale"],
+                          opts["force_floor"], opts["max_step"])
+                pf.write(block.slab, res)
+                pf.mark_done(block.index)
+                computed += block.size
+                if bar is not None:
+                    bar.update(block.size)
+                if interrupt.requested:
+                    raise KeyboardInterrupt
+        if bar is not None:
+            bar.close()
+    except KeyboardInterrupt:
+        pf.close()
+        print(f"\nfastbearing: interrupted; finished blocks are kept in {part}; continue with --resume",
+              file=sys.stderr)
+        raise
+    counts = _status_counts(pf)
+    pf.close()
+    wall = time.perf_counter() - started
+    storage.finish(part, out, cfg.compression, blocks, {"wall_time_s": wall,
+                   "status_counts": json.dumps({st.describe(c): k for c, k in counts.items()})},
+                   [v.name for v in _variables(cases.given)])
+    _summary(cases.n_cases, counts, wall, computed)
+    return open_dataset(out) if as_dataset else out
+
+
+def _status_counts(pf: storage.PartFile) -> dict[int, int]:
+    """Cases per status code, read in slices so memory stays bounded."""
+    counts: dict[int, int] = {}
+    ds = pf.fh["status"]
+    step = max(1, 4_000_000 // max(1, int(np.prod(ds.shape[1:]))))
+    for a in range(0, ds.shape[0], step):
+        codes, n = np.unique(ds[a:a + step], return_counts=True)
+        for c, k in zip(codes.tolist(), n.tolist()):
+            counts[c] = counts.get(c, 0) + k
+    return counts
+
+
+def _summary(n_cases: int, counts: dict[int, int], wall: float, computed: int) -> None:
+    ok = sum(k for code, k in counts.items() if st.is_converged(code))
+    by_status = ", ".join(f"{st.describe(code)} {k}" for code, k in sorted(counts.items(), key=lambda x: -x[1]))
+    rate = computed / wall if wall > 0 else float("inf")
+    print(f"fastbearing: {n_cases} cases, {100.0 * ok / n_cases:.2f} % converged ({by_status}); "
+          f"{wall:.2f} s wall, {rate:,.0f} cases/s", file=sys.stderr)
+
+
+def open_dataset(path):
+    """Open a finished map as an ``xarray.Dataset`` (engine h5netcdf); refuses unfinished files."""
+    path = Path(path)
+    if not storage.is_complete(path):
+        raise ValueError(f"{path} is not a finished fastbearing file")
+    try:
+        import xarray as xr
+    except ImportError:
+        raise ImportError("as_dataset needs xarray and h5netcdf: pip install 'fastbearing[xarray]'") from None
+    return xr.open_dataset(path, engine="h5netcdf")

@@ -1,0 +1,215 @@
+"""HDF5 storage of result grids (load maps and ball-passage tables), via h5py.
+
+One schema, netCDF4-compatible: every dimension is an HDF5 dimension scale,
+every variable carries ``units`` and ``long_name``, so
+``xarray.open_dataset(path, engine="h5netcdf")`` opens a file as a labelled
+Dataset and h5py or HDFView read it as plain HDF5.
+
+Crash safety: a run writes ``OUT.h5.part``, whose datasets are contiguous and
+allocated when created, so writing a block changes raw data only, never HDF5
+metadata; a block is marked done (``block_done``) only after its data is
+flushed. A killed run therefore leaves a readable ``.part`` from which
+``resume`` continues. ``finish`` drops the bookkeeping, marks the file
+complete and renames it to its final name (repacking it with compression if
+asked), so a file under the final name is always complete.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass, field
+from datetime import datetime, timezone
+from pathlib import Path
+
+import h5py
+import numpy as np
+
+DOF_LABELS = ["x", "y", "z", "tx", "ty"]
+COMPLETE = "fastbearing_complete"
+COMPRESSIONS = ("none", "lzf", "gzip")
+
+
+@dataclass
+class Variable:
+    """A result variable: trailing (per-case) dims after the case dims."""
+
+    name: str
+    trailing: tuple[str, ...]
+    dtype: str
+    units: str
+    long_name: str
+    extra: dict = field(default_factory=dict)
+
+
+@dataclass
+class Coordinate:
+    """A dimension with values (``is_dim``) or a scalar coordinate."""
+
+    name: str
+    values: np.ndarray
+    units: str
+    long_name: str
+    is_dim: bool = True
+
+
+def part_path(path: Path) -> Path:
+    return path.with_name(path.name + ".part")
+
+
+def _early_dcpl() -> h5py.h5p.PropDCID:
+    # allocate the whole dataset at creation and never write fill values:
+    # later block writes then only touch raw data (crash safety, see module doc)
+    dcpl = h5py.h5p.create(h5py.h5p.DATASET_CREATE)
+    dcpl.set_alloc_time(h5py.h5d.ALLOC_TIME_EARLY)
+    dcpl.set_fill_time(h5py.h5d.FILL_TIME_NEVER)
+    return dcpl
+
+
+def create(path: Path, case_dims: list[Coordinate], extra_dims: list[Coordinate], scalars: list[Coordinate],
+           variables: list[Variable], attrs: dict, n_blocks: int, case_coords: list[Coordinate] = ()) -> None:
+    """Create the working file ``path`` (a ``.part``) with every dataset allocated."""
+    shape = tuple(len(c.values) for c in case_dims)
+    with h5py.File(path, "w", track_order=True) as fh:
+        for c in (*case_dims, *extra_dims):
+            ds = fh.create_dataset(c.name, data=c.values)
+            ds.make_scale(c.name)
+            ds.attrs["units"] = c.units
+            ds.attrs["long_name"] = c.long_name
+        dims = {c.name: fh[c.name] for c in (*case_dims, *extra_dims)}
+        coord_names = [c.name for c in scalars] + [c.name for c in case_coords]
+        for c in scalars:
+            ds = fh.create_dataset(c.name, data=np.float64(c.values[0]))
+            ds.attrs["units"] = c.units
+            ds.attrs["long_name"] = c.long_name
+        for c in case_coords:  # per-case inputs of a case table, e.g. Fx(case)
+            ds = fh.create_dataset(c.name, data=c.values)
+            ds.dims[0].attach_scale(dims[case_dims[0].name])
+            ds.attrs["units"] = c.units
+            ds.attrs["long_name"] = c.long_name
+        for v in variables:
+            vshape = shape + tuple(len(dims[t]) for t in v.trailing)
+            ds = fh.create_dataset(v.name, shape=vshape, dtype=v.dtype, dcpl=_early_dcpl())
+            for axis, name in enumerate([c.name for c in case_dims] + list(v.trailing)):
+                ds.dims[axis].attach_scale(dims[name])
+            ds.attrs["units"] = v.units
+            ds.attrs["long_name"] = v.long_name
+            for k, val in v.extra.items():
+                ds.attrs[k] = val
+            if coord_names:
+                ds.attrs["coordinates"] = " ".join(coord_names)
+        blocks = fh.create_dataset("block", data=np.arange(n_blocks, dtype=np.int64))
+        blocks.make_scale("block")
+        done = fh.create_dataset("block_done", shape=(n_blocks,), dtype="u1", dcpl=_early_dcpl())
+        done[...] = 0
+        done.dims[0].attach_scale(blocks)
+        for k, val in attrs.items():
+            fh.attrs[k] = val
+        fh.attrs[COMPLETE] = 0
+
+
+class PartFile:
+    """An open working file: write blocks, mark them done."""
+
+    def __init__(self, path: Path):
+        self.path = path
+        self.fh = h5py.File(path, "r+")
+
+    def done_mask(self) -> np.ndarray:
+        return self.fh["block_done"][...].astype(bool)
+
+    def write(self, slab: tuple, arrays: dict[str, np.ndarray]) -> None:
+        for name, values in arrays.items():
+            ds = self.fh[name]
+            ds[slab] = values.reshape(_slab_shape(ds.shape, slab))
+
+    def mark_done(self, index: int) -> None:
+        # data first, then the mark: a kill in between only redoes the block
+        self.fh.flush()
+        self.fh["block_done"][index] = 1
+        self.fh.flush()
+
+    def close(self) -> None:
+        self.fh.close()
+
+
+def _slab_shape(shape: tuple[int, ...], slab: tuple) -> tuple[int, ...]:
+    out = []
+    for n, s in zip(shape, slab):
+        if isinstance(s, slice):
+            out.append(len(range(*s.indices(n))))
+    return tuple(out) + tuple(shape[len(slab):])
+
+
+def finish(part: Path, final: Path, compression: str, blocks, attrs: dict, variables: list[str]) -> None:
+    """Mark ``part`` complete and move it to ``final`` (repacked with compression if asked)."""
+    with h5py.File(part, "r+") as fh:
+        for k, val in attrs.items():
+            fh.attrs[k] = val
+        fh.attrs[COMPLETE] = 1
+        fh.attrs["completed"] = datetime.now(timezone.utc).isoformat(timespec="seconds")
+    if compression == "none":
+        _drop_bookkeeping(part)
+        os.replace(part, final)
+        return
+    packed = final.with_name(final.name + ".packing")
+    _repack(part, packed, compression, blocks, variables)
+    os.replace(packed, final)
+    part.unlink()
+
+
+def _drop_bookkeeping(path: Path) -> None:
+    with h5py.File(path, "r+") as fh:
+        del fh["block_done"]
+        del fh["block"]
+
+
+_SCALE_ATTRS = ("DIMENSION_LIST", "REFERENCE_LIST", "CLASS", "NAME", "_Netcdf4Dimid", "_Netcdf4Coordinates")
+
+
+def _repack(src: Path, dst: Path, compression: str, blocks, big: list[str]) -> None:
+    """Copy src to dst with the data variables chunked by block and compressed, one block at a time."""
+    chunk_slab = blocks[0].slab
+    with h5py.File(src, "r") as fi, h5py.File(dst, "w", track_order=True) as fo:
+        names = [n for n in fi if n not in ("block", "block_done")]
+        for name in names:
+            ds = fi[name]
+            if name in big:
+                out = fo.create_dataset(name, shape=ds.shape, dtype=ds.dtype, chunks=_slab_shape(ds.shape, chunk_slab),
+                                        compression=compression, shuffle=True)
+            else:
+                out = fo.create_dataset(name, data=ds[()])
+            for k, val in ds.attrs.items():
+                if k not in _SCALE_ATTRS:
+                    out.attrs[k] = val
+            if h5py.h5ds.is_scale(ds.id):
+                out.make_scale(name)
+        for name in names:
+            for axis, dim in enumerate(fi[name].dims):
+                for scale in dim.values():
+                    scale_name = scale.name.lstrip("/")
+                    if scale_name != name:
+                        fo[name].dims[axis].attach_scale(fo[scale_name])
+        for k, val in fi.attrs.items():
+            fo.attrs[k] = val
+        for name in big:
+            for b in blocks:
+                fo[name][b.slab] = fi[name][b.slab]
+
+
+def is_complete(path: Path) -> bool:
+    try:
+        with h5py.File(path, "r") as fh:
+            return int(fh.attrs.get(COMPLETE, 0)) == 1
+    except OSError:
+        return False
+
+
+def versions() -> dict:
+    """Provenance: versions of the packages that made a file."""
+    import numba
+
+    from . import __version__
+
+    return {"fastbearing_version": __version__, "numba_version": numba.__version__, "h5py_version": h5py.__version__,
+            "numpy_version": np.__version__, "hdf5_version": h5py.version.hdf5_version,
+            "created": datetime.now(timezone.utc).isoformat(timespec="seconds")}
