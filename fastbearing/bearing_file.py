@@ -12,7 +12,7 @@ import tomllib
 from importlib import resources
 from pathlib import Path
 
-from .bearing import ARRANGEMENTS, ROW_KEYS, Bearing, _per_row
+from .bearing import ARRANGEMENTS, ROW_KEYS, Bearing, _per_row, _row
 
 _SHARED_KEYS = ("n_balls", "hertz_constant", "pitch_radius", "groove_center_distance", "contact_angle",
                 "exponent", "radial_clearance", "first_ball_angle")
@@ -70,6 +70,7 @@ def bearing_from_table(table: dict, where: str = "bearing") -> Bearing:
             raise ValueError(_prefixed(where, err)) from None
     if "row_offset" not in table:
         raise ValueError(f"{where}.row_offset (e, mm, >= 0) is required for arrangement {arrangement!r}")
+    _row(row, where)  # the shared keys were typed once: report them as bearing.KEY, not per row
     try:
         return Bearing.double(arrangement, table["row_offset"], axial_preload=preload, name=name, **row)
     except ValueError as err:

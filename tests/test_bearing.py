@@ -115,7 +115,7 @@ def test_preset_in_a_file_with_overrides(tmp_path):
     ('[bearing]\npreset = "gunduz2013"\narrangement = "XY"\n', "arrangement must be one of"),
     ('[bearing]\npreset = "nope"\n', "preset must be one of"),
     ('[bearing]\npreset = "gunduz2013"\n[extra]\n', r"unknown top-level key\(s\) \['extra'\]"),
-    ('[bearing]\npreset = "gunduz2013"\nn_balls = 0\n', r"bearing\.rows\[0\]\.n_balls must be an integer >= 1"),
+    ('[bearing]\npreset = "gunduz2013"\nn_balls = 0\n', r"bearing\.n_balls must be an integer >= 1"),
     ('[bearing]\narrangement = "single"\nn_balls = 14\n', "missing required key"),
     ('[bearing]\narrangement = "DB"\nn_balls = 14\n', r"row_offset \(e, mm, >= 0\) is required"),
     ('[bearing]\n[[bearing.rows]]\nn_balls = 3\nbogus = 1\n', r"bearing\.rows\[0\]: unknown key"),

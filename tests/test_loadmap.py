@@ -1,0 +1,313 @@
+"""Load maps: configs, identity across threads and chunk sizes, agreement with
+solve, HDF5/xarray layout, and safety (overwrite, kill and resume, Ctrl-C, memory)."""
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+from pathlib import Path
+
+import h5py
+import numpy as np
+import pytest
+
+import fastbearing as fb
+from fastbearing.grid import plan_blocks
+from fastbearing.loadmap import loadmap, open_dataset, read_config
+
+ROOT = Path(__file__).resolve().parents[1]
+VARIABLES = ("q", "f", "K", "status", "iterations", "residual", "max_ball_load", "loaded_balls",
+             "min_contact_angle", "max_contact_angle")
+D = np.array([1, 1, 1, 1 / 34.75, 1 / 34.75])
+
+
+def config(tmp_path, body, bearing='preset = "gunduz2013"\narrangement = "DB"', name="map.toml"):
+    path = tmp_path / name
+    path.write_text(f"[bearing]\n{bearing}\n\n[loadmap]\n{textwrap.dedent(body)}")
+    return path
+
+
+SMALL = """
+given = "load"
+Fx = { start = -2000.0, stop = 2000.0, num = 6 }
+Fz = { start = 500.0, stop = 10000.0, num = 5 }
+My = { start = -1.0e5, stop = 1.0e5, num = 7 }
+"""
+
+
+def read_all(path):
+    with h5py.File(path, "r") as fh:
+        return {name: fh[name][...] for name in VARIABLES}
+
+
+def assert_identical(a, b):
+    for name in VARIABLES:
+        np.testing.assert_array_equal(a[name], b[name], err_msg=name)
+
+
+# -- configs ------------------------------------------------------------------
+
+@pytest.mark.parametrize("body, words", [
+    ("Fx = 1.0\nFoo = 2.0\n", "unknown key 'Foo'"),
+    ("Fx = []\n", "loadmap.Fx is an empty list"),
+    ("Fx = { start = 0.0, stop = 1.0, num = 0 }\n", r"loadmap.Fx.num must be an integer >= 1"),
+    ("Fx = { start = 0.0, stop = nan, num = 3 }\n", "loadmap.Fx.stop must be finite"),
+    ("Fx = [1.0, inf]\n", r"loadmap.Fx\[1\] must be finite"),
+    ("Fx = { start = 0.0, num = 3 }\n", r"missing \['stop'\]"),
+    ('given = "force"\n', "loadmap.given must be 'load' or 'displacement'"),
+    ('given = "displacement"\nFx = 1.0\n', "loadmap.Fx is not an axis for given = 'displacement'"),
+    ("chunk = 0\n", r"loadmap.chunk must be an integer >= 1"),
+    ('compression = "zip"\n', "loadmap.compression must be one of"),
+    ('method = "secant"\n', "method must be one of"),
+    ('cases = "missing.npy"\n', "case file not found"),
+    ('cases = "c.npy"\nFx = 1.0\n', r"loadmap.cases replaces the grid axes; remove \['Fx'\]"),
+])
+def test_bad_configs_are_rejected_before_any_work(tmp_path, body, words):
+    np.save(tmp_path / "c.npy", np.ones((3, 5)))
+    with pytest.raises(ValueError, match=words):
+        read_config(config(tmp_path, body))
+
+
+def test_bad_bearing_and_tables_in_config(tmp_path):
+    with pytest.raises(ValueError, match="bearing.hertz_constant must be > 0"):
+        read_config(config(tmp_path, SMALL, bearing='preset = "gunduz2013"\nhertz_constant = -1.0'))
+    path = tmp_path / "x.toml"
+    path.write_text("[loadmap]\nFx = 1.0\n")
+    with pytest.raises(ValueError, match=r"missing the \[bearing\] table"):
+        read_config(path)
+    path.write_text('[bearing]\npreset = "gunduz2013"\n[loadmap]\n[other]\n')
+    with pytest.raises(ValueError, match="unknown top-level key"):
+        read_config(path)
+
+
+@pytest.mark.parametrize("shape, chunk", [((6, 5, 7), 1), ((6, 5, 7), 10), ((6, 5, 7), 35), ((6, 5, 7), 100),
+                                          ((6, 5, 7), 10_000), ((4, 9), 20), ((50,), 7)])
+def test_blocks_are_hyperslabs_of_whole_lines(shape, chunk):
+    line = shape[-1] if len(shape) > 1 else 1
+    cover = np.zeros(shape, int)
+    flat = np.arange(int(np.prod(shape))).reshape(shape)
+    for b in plan_blocks(shape, line, chunk):
+        cover[b.slab] += 1
+        np.testing.assert_array_equal(flat[b.slab].ravel(), np.arange(b.start, b.stop))
+        assert b.size % line == 0 and (b.size <= max(chunk, line))
+    assert (cover == 1).all()
+
+
+# -- results ------------------------------------------------------------------
+
+@pytest.fixture(scope="module")
+def small_map(tmp_path_factory):
+    tmp = tmp_path_factory.mktemp("map")
+    return loadmap(config(tmp, SMALL), progress=False)
+
+
+def test_identical_for_any_thread_count_and_chunk_size(tmp_path, small_map):
+    reference = read_all(small_map)
+    for threads, chunk in ((1, 1), (2, 7), (1, 35), (2, 64), (2, 100_000)):
+        out = loadmap(config(tmp_path, SMALL + f"chunk = {chunk}\n"), tmp_path / f"m{threads}-{chunk}.h5",
+                      threads=threads, progress=False)
+        assert_identical(read_all(out), reference)
+
+
+def test_cases_agree_with_solve(small_map):
+    data = read_all(small_map)
+    with h5py.File(small_map, "r") as fh:
+        Fx, Fz, My = fh["Fx"][...], fh["Fz"][...], fh["My"][...]
+    bearing = fb.Bearing.preset("gunduz2013", "DB")
+    assert (data["status"] == 0).all()
+    rng = np.random.default_rng(3)
+    for _ in range(12):
+        i, j, k = rng.integers(0, 6), rng.integers(0, 5), rng.integers(0, 7)
+        r = fb.solve(bearing, [Fx[i], 0.0, Fz[j], 0.0, My[k]])
+        np.testing.assert_allclose(data["q"][i, j, k], r.q, rtol=1e-9, atol=1e-9 * np.abs(r.q).max())
+        np.testing.assert_allclose(data["K"][i, j, k], r.K, rtol=1e-9, atol=1e-9 * np.abs(r.K).max())
+        Q, alpha = fb.ball_loads(bearing, data["q"][i, j, k])
+        assert data["max_ball_load"][i, j, k, 0] == pytest.approx(Q[:14].max(), rel=1e-12)
+        assert data["loaded_balls"][i, j, k, 1] == (Q[14:] > 0).sum()
+
+
+def test_continuation_saves_iterations(small_map):
+    it = read_all(small_map)["iterations"]
+    assert it[..., 1:].mean() < it[..., 0].mean()
+
+
+def test_displacement_map_equals_stiffness_many(tmp_path):
+    out = loadmap(config(tmp_path, """
+        given = "displacement"
+        dx = { start = -0.02, stop = 0.02, num = 5 }
+        dz = [0.0, 0.01, 0.03]
+        by = 0.0005
+    """), progress=False)
+    data = read_all(out)
+    dx, dz = np.meshgrid(np.linspace(-0.02, 0.02, 5), [0.0, 0.01, 0.03], indexing="ij")
+    q = np.column_stack([dx.ravel(), 0 * dx.ravel(), dz.ravel(), 0 * dx.ravel(), 0.0005 + 0 * dx.ravel()])
+    f, K = fb.stiffness_many(fb.Bearing.preset("gunduz2013", "DB"), q)
+    np.testing.assert_array_equal(data["K"].reshape(-1, 5, 5), K)
+    np.testing.assert_array_equal(data["f"].reshape(-1, 5), f)
+
+
+@pytest.mark.parametrize("suffix", [".npy", ".csv", ".h5"])
+def test_case_files(tmp_path, suffix):
+    rng = np.random.default_rng(5)
+    cases = np.column_stack([rng.uniform(-2000, 2000, 20), rng.uniform(-2000, 2000, 20),
+                             rng.uniform(500, 5000, 20), rng.uniform(-5e4, 5e4, 20), rng.uniform(-5e4, 5e4, 20)])
+    path = tmp_path / f"cases{suffix}"
+    if suffix == ".npy":
+        np.save(path, cases)
+    elif suffix == ".csv":
+        np.savetxt(path, cases, delimiter=",", header="Fx,Fy,Fz,Mx,My", comments="")
+    else:
+        with h5py.File(path, "w") as fh:
+            fh["cases"] = cases
+    out = loadmap(config(tmp_path, f'cases = "{path.name}"\nchunk = 6\n'), progress=False)
+    data = read_all(out)
+    ref = fb.solve_many(fb.Bearing.preset("gunduz2013", "DB"), cases)
+    np.testing.assert_array_equal(data["q"], ref.q)
+    ds = open_dataset(out)
+    np.testing.assert_array_equal(ds["Fx"].values, cases[:, 0])
+
+
+def test_xarray_layout_units_and_provenance(small_map):
+    ds = open_dataset(small_map)
+    K = ds["K"].sel(Fx=-1200.0, Fz=500.0, My=1.0e5 / 3, method="nearest")
+    assert K.shape == (5, 5)
+    assert float(ds["Fy"]) == 0.0 and list(ds["dof"].values) == ["x", "y", "z", "tx", "ty"]
+    for name in (*VARIABLES, "Fx", "Fz", "My", "Fy", "Mx"):
+        assert ds[name].attrs["units"] and ds[name].attrs["long_name"], name
+    assert ds["Fx"].attrs["units"] == "N" and ds["My"].attrs["units"] == "N*mm"
+    assert ds["K"].attrs["units"] == "N/mm, N*mm/rad, N/rad"
+    for key in ("fastbearing_version", "numba_version", "h5py_version", "config", "bearing", "solver_rtol",
+                "created"):
+        assert key in ds.attrs
+    assert json.loads(ds.attrs["status_counts"]) == {"converged": 210}
+
+
+@pytest.mark.parametrize("compression", ["lzf", "gzip"])
+def test_compression_keeps_values(tmp_path, small_map, compression):
+    out = loadmap(config(tmp_path, SMALL + f'compression = "{compression}"\nchunk = 35\n'), progress=False)
+    assert_identical(read_all(out), read_all(small_map))
+    with h5py.File(out, "r") as fh:
+        assert fh["K"].compression == compression
+    assert open_dataset(out)["K"].shape == (6, 5, 7, 5, 5)
+    assert not Path(str(out) + ".part").exists()
+
+
+# -- safety ---------------------------------------------------------------------
+
+def test_never_overwrites_without_being_told(tmp_path):
+    cfg = config(tmp_path, SMALL)
+    out = loadmap(cfg, progress=False)
+    stamp = out.stat().st_mtime_ns
+    with pytest.raises(ValueError, match="exists; pass --overwrite"):
+        loadmap(cfg, progress=False)
+    assert out.stat().st_mtime_ns == stamp
+    loadmap(cfg, overwrite=True, progress=False)
+    (tmp_path / "map.h5.part").write_bytes(b"unfinished")
+    with pytest.raises(ValueError, match="an unfinished run exists"):
+        loadmap(cfg, tmp_path / "map.h5", progress=False)
+    with pytest.raises(ValueError, match="not a readable partial run"):
+        loadmap(cfg, resume=True, progress=False)
+
+
+def test_unfinished_file_is_never_taken_for_finished(tmp_path):
+    (tmp_path / "x.h5").write_bytes(b"")
+    with pytest.raises(ValueError, match="not a finished fastbearing file"):
+        open_dataset(tmp_path / "x.h5")
+
+
+KILL_MAP = """
+given = "load"
+Fx = { start = -2000.0, stop = 2000.0, num = 60 }
+Fz = { start = 500.0, stop = 10000.0, num = 40 }
+My = { start = -1.0e5, stop = 1.0e5, num = 50 }
+chunk = 2000
+"""
+
+
+def blocks_done(part):
+    try:
+        with h5py.File(part, "r", locking=False) as fh:
+            return int(fh["block_done"][...].sum()), len(fh["block_done"])
+    except (OSError, KeyError):
+        return 0, 1
+
+
+def start_cli(cfg, out):
+    return subprocess.Popen([sys.executable, "-m", "fastbearing.cli", "loadmap", str(cfg), "-o", str(out),
+                             "--threads", "1"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+
+
+def wait_for_blocks(part, proc, at_least=3):
+    deadline = time.time() + 120
+    while time.time() < deadline and proc.poll() is None:
+        done, total = blocks_done(part)
+        if done >= at_least:
+            return done, total
+        time.sleep(0.02)
+    pytest.fail(f"the run ended or stalled before {at_least} blocks were done")
+
+
+def test_sigkill_then_resume_is_identical_to_uninterrupted(tmp_path):
+    cfg = config(tmp_path, KILL_MAP)
+    reference = loadmap(cfg, tmp_path / "reference.h5", progress=False)
+    out, part = tmp_path / "killed.h5", tmp_path / "killed.h5.part"
+    proc = start_cli(cfg, out)
+    done, total = wait_for_blocks(part, proc)
+    proc.send_signal(signal.SIGKILL)
+    proc.wait()
+    assert not out.exists() and part.exists()
+    finished, total = blocks_done(part)
+    assert 0 < finished < total
+    with pytest.raises(ValueError, match="an unfinished run exists"):
+        loadmap(cfg, out, progress=False)
+    resumed = subprocess.run([sys.executable, "-m", "fastbearing.cli", "loadmap", str(cfg), "-o", str(out),
+                              "--resume"], capture_output=True, text=True, timeout=300)
+    assert resumed.returncode == 0, resumed.stderr
+    assert_identical(read_all(out), read_all(reference))
+    assert not part.exists()
+    # the resumed run computed only what was missing
+    rate_line = resumed.stderr.strip().splitlines()[-1]
+    assert "100.00 % converged" in rate_line
+
+
+def test_ctrl_c_stops_quickly_and_leaves_a_resumable_file(tmp_path):
+    cfg = config(tmp_path, KILL_MAP)
+    out, part = tmp_path / "int.h5", tmp_path / "int.h5.part"
+    proc = start_cli(cfg, out)
+    wait_for_blocks(part, proc, at_least=2)
+    sent = time.time()
+    proc.send_signal(signal.SIGINT)
+    _, err = proc.communicate(timeout=30)
+    assert time.time() - sent < 2.0
+    assert proc.returncode == 130 and "--resume" in err and "Traceback" not in err
+    assert not out.exists()
+    loadmap(cfg, out, resume=True, progress=False)
+    assert open_dataset(out)["status"].size == 60 * 40 * 50
+
+
+def test_memory_is_bounded_by_the_block_not_the_map(tmp_path):
+    """Peak resident memory of a map 50x its block size stays near that of a one-block map."""
+    script = textwrap.dedent("""
+        import resource, sys
+        from fastbearing.loadmap import loadmap
+        loadmap(sys.argv[1], sys.argv[2], progress=False)
+        print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)
+    """)
+
+    def peak_kb(n_dx):
+        cfg = config(tmp_path, f"""
+            given = "displacement"
+            dx = {{ start = -0.02, stop = 0.02, num = {n_dx} }}
+            dz = {{ start = 0.0, stop = 0.03, num = 100 }}
+            chunk = 4000
+        """, name=f"mem{n_dx}.toml")
+        p = subprocess.run([sys.executable, "-c", script, str(cfg), str(tmp_path / f"mem{n_dx}.h5")],
+                           capture_output=True, text=True, timeout=300)
+        assert p.returncode == 0, p.stderr
+        return int(p.stdout.split()[-1])
+
+    small, large = peak_kb(40), peak_kb(2000)  # 4 000 vs 200 000 cases (~66 MB of results)
+    assert large - small < 30_000, (small, large)
