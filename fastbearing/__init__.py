@@ -20,6 +20,7 @@ from .api import (SolveManyResult, SolveResult, ball_loads, num_threads, solve, 
                   stiffness_many)
 from .bearing import ARRANGEMENTS, Bearing, Row
 from .bearing_file import bearing_from_table, load_bearing, preset_names
+from .loadmap import loadmap, open_dataset
 
 try:
     __version__ = version("fastbearing")
@@ -27,5 +28,5 @@ except PackageNotFoundError:  # running from a source tree
     __version__ = "0+unknown"
 
 __all__ = ["ARRANGEMENTS", "Bearing", "Row", "SolveManyResult", "SolveResult", "ball_loads", "bearing_from_table",
-           "load_bearing", "num_threads", "preset_names", "solve", "solve_many", "status", "stiffness",
+           "load_bearing", "loadmap", "num_threads", "open_dataset", "preset_names", "solve", "solve_many", "status", "stiffness",
            "stiffness_many"]
