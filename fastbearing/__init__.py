@@ -21,6 +21,7 @@ from .api import (SolveManyResult, SolveResult, ball_loads, num_threads, solve, 
 from .bearing import ARRANGEMENTS, Bearing, Row
 from .bearing_file import bearing_from_table, load_bearing, preset_names
 from .loadmap import loadmap, open_dataset
+from .passage import passage
 
 try:
     __version__ = version("fastbearing")
@@ -28,5 +29,5 @@ except PackageNotFoundError:  # running from a source tree
     __version__ = "0+unknown"
 
 __all__ = ["ARRANGEMENTS", "Bearing", "Row", "SolveManyResult", "SolveResult", "ball_loads", "bearing_from_table",
-           "load_bearing", "loadmap", "num_threads", "open_dataset", "preset_names", "solve", "solve_many", "status", "stiffness",
+           "load_bearing", "loadmap", "num_threads", "open_dataset", "passage", "preset_names", "solve", "solve_many", "status", "stiffness",
            "stiffness_many"]

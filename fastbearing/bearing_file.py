@@ -51,7 +51,8 @@ def bearing_from_table(table: dict, where: str = "bearing") -> Bearing:
     if "preset" in table:
         base = dict(_preset_table(table.pop("preset")))
         if "rows" in table:
-            base = {k: v for k, v in base.items() if k in ("name",)}
+            # the preset's per-row values become defaults for every given row
+            base = {k: v for k, v in base.items() if k in _SHARED_KEYS or k in ("name", "axial_preload")}
         base.update(table)
         table = base
     name = str(table.pop("name", ""))

@@ -80,7 +80,26 @@ def build_parser() -> argparse.ArgumentParser:
     m.add_argument("--resume", action="store_true", help="continue an interrupted run of the same config")
     m.add_argument("--overwrite", action="store_true", help="replace an existing output or unfinished run")
     m.add_argument("--no-progress", action="store_true", help="no progress bar even on a terminal")
+    p = sub.add_parser("passage", help="ball-passage (time-varying) stiffness tables, to HDF5 (and CSV)",
+                       description=(
+                           "Rotate the ball set through one ball-pass period and tabulate Kb (and q) at every "
+                           "cage position for each operating point of the [passage] table of CONFIG.toml, with the "
+                           "mean, min, max, peak-to-peak variation (%% of mean) and Fourier harmonics of every "
+                           "entry. Units: N, mm, rad; time s; frequency Hz."))
+    p.add_argument("config", metavar="CONFIG.toml", help="config with [bearing] and [passage] tables")
+    p.add_argument("-o", "--output", metavar="OUT.h5", help="output file (default: CONFIG with suffix .h5)")
+    p.add_argument("--threads", type=int, metavar="N", help="worker threads (default: NUMBA_NUM_THREADS)")
+    p.add_argument("--overwrite", action="store_true", help="replace existing output files")
+    p.add_argument("--csv", action="store_true", help="also write OUT_point0000.csv ... (one per operating "
+                   "point: cage angle in rad, time in s if a speed is given, the 15 independent Kb entries)")
     return parser
+
+
+def _passage(args) -> int:
+    from .passage import passage
+
+    passage(args.config, args.output, threads=args.threads, overwrite=args.overwrite, csv_files=args.csv)
+    return 0
 
 
 def _loadmap(args) -> int:
@@ -135,7 +154,7 @@ def main(argv=None) -> int:
     parser = build_parser()
     try:
         args = parser.parse_args(argv)
-        return {"solve": _solve, "loadmap": _loadmap}[args.command](args)
+        return {"solve": _solve, "loadmap": _loadmap, "passage": _passage}[args.command](args)
     except (_UsageError, ValueError) as err:
         print(f"fastbearing: error: {err}" if not str(err).startswith("fastbearing") else str(err),
               file=sys.stderr)

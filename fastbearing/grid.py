@@ -83,6 +83,7 @@ class CaseSet:
     given: str
     axes: tuple[Axis, ...] = ()
     table: np.ndarray | None = None
+    table_dim: str = "case"
 
     @property
     def dims(self) -> tuple[Axis, ...]:
@@ -97,8 +98,8 @@ class CaseSet:
     @property
     def dim_names(self) -> tuple[str, ...]:
         if self.table is not None:
-            return ("case",)
-        return tuple(a.name for a in self.dims) or ("case",)
+            return (self.table_dim,)
+        return tuple(a.name for a in self.dims) or (self.table_dim,)
 
     @property
     def n_cases(self) -> int:

@@ -108,31 +108,6 @@ def read_config(config) -> LoadMapConfig:
                          digest.hexdigest())
 
 
-def _variables(given: str) -> list[storage.Variable]:
-    V = storage.Variable
-    flag = {"flag_values": np.array([st.CONVERGED, st.UNLOADED, st.ITERATION_LIMIT, st.SINGULAR,
-                                     st.NONFINITE_INPUT, st.STALLED], np.int8),
-            "flag_meanings": "converged unloaded iteration_limit singular nonfinite_input stalled",
-            "comment": f"low 4 bits: outcome; +{st.CONTACT_REVERSED}: warning contact_reversed (a loaded ball's "
-                       "contact angle crossed zero against its row's contact direction)"}
-    return [
-        V("q", ("dof",), "f8", ", ".join(DISPLACEMENT_UNITS),
-          "inner-ring displacement (dx, dy, dz, bx, by) at the bearing centre"),
-        V("f", ("dof",), "f8", ", ".join(LOAD_UNITS), "load on the inner ring (Fx, Fy, Fz, Mx, My) at q"),
-        V("K", ("dof", "dof_col"), "f8", "N/mm, N*mm/rad, N/rad",
-          "bearing stiffness matrix Kb = df/dq (N/mm among x,y,z; N*mm/rad among tx,ty; N/rad between)"),
-        V("status", (), "i1", "1", "solver status" if given == "load" else "status (0: direct substitution)",
-          flag),
-        V("iterations", (), "i4", "1", "solver iterations"),
-        V("residual", (), "f8", "1", "relative residual max|f(q) - f_target| / max|f_target|, moments / R"),
-        V("max_ball_load", ("row",), "f8", "N", "largest ball load per row"),
-        V("loaded_balls", ("row",), "i2", "1", "number of loaded balls per row"),
-        V("min_contact_angle", ("row",), "f8", "rad", "smallest loaded contact angle per row (on the row's "
-          "contact direction; nan if no ball is loaded)"),
-        V("max_contact_angle", ("row",), "f8", "rad", "largest loaded contact angle per row"),
-    ]
-
-
 class _Buffers:
     """Per-block result arrays, allocated once for the largest block and reused."""
 
@@ -174,46 +149,12 @@ class _Interrupt:
             signal.signal(signal.SIGINT, self._old)
 
 
-def _prepare_output(cfg: LoadMapConfig, output, resume: bool, overwrite: bool) -> tuple[Path, Path, bool]:
-    """Final path, working path, and whether to resume; refuses to clobber anything unasked."""
-    if output is None:
-        if cfg.source is None:
-            raise ValueError("output is required when the config is not a file")
-        output = cfg.source.with_suffix(".h5")
-    out = Path(output)
-    part = storage.part_path(out)
-    if resume and overwrite:
-        raise ValueError("choose one of resume and overwrite")
-    if part.exists():
-        if resume:
-            import h5py
-
-            try:
-                with h5py.File(part, "r") as fh:
-                    same = fh.attrs.get("config_fingerprint") == cfg.fingerprint
-            except OSError:
-                raise ValueError(f"{part} is not a readable partial run; start again with overwrite") from None
-            if not same:
-                raise ValueError(f"{part} was started from a different config (or case file); "
-                                 "resume needs the same config, or start again with overwrite")
-            return out, part, True
-        if not overwrite:
-            raise ValueError(f"an unfinished run exists at {part}: resume it (--resume) or start again "
-                             "(--overwrite)")
-        part.unlink()
-    elif resume and not out.exists():
-        raise ValueError(f"nothing to resume: {part} does not exist")
-    if out.exists() and not overwrite and not resume:
-        raise ValueError(f"{out} exists; pass --overwrite (overwrite=True) to replace it")
-    return out, part, False
-
-
 def _create(cfg: LoadMapConfig, part: Path, blocks) -> None:
     cases = cfg.cases
     C = storage.Coordinate
     if cases.table is not None:
         case_dims = [C("case", np.arange(cases.n_cases), "1", "case number in the case file")]
-        case_coords = [C(n, cases.table[:, i], u, LONG_NAMES[n])
+        case_coords = [(C(n, cases.table[:, i], u, LONG_NAMES[n]), "case")
                        for i, (n, u) in enumerate(zip(AXES[cases.given], UNITS[cases.given]))]
         scalars = []
     elif cases.dims:
@@ -240,7 +181,7 @@ def _create(cfg: LoadMapConfig, part: Path, blocks) -> None:
         "chunk": cfg.chunk, "compression": cfg.compression, "n_cases": cases.n_cases, "n_blocks": len(blocks),
         **storage.versions(),
     }
-    storage.create(part, case_dims, extra_dims, scalars, _variables(cases.given), attrs, len(blocks),
+    storage.create(part, case_dims, extra_dims, scalars, storage.result_variables(cases.given), attrs, len(blocks),
                    case_coords)
 
 
@@ -280,7 +221,11 @@ def loadmap(config, output=None, *, threads=None, resume=False, overwrite=False,
     Path or xarray.Dataset
     """
     cfg = config if isinstance(config, LoadMapConfig) else read_config(config)
-    out, part, resuming = _prepare_output(cfg, output, resume, overwrite)
+    if output is None:
+        if cfg.source is None:
+            raise ValueError("output is required when the config is not a file")
+        output = cfg.source.with_suffix(".h5")
+    out, part, resuming = storage.prepare_output(Path(output), cfg.fingerprint, resume, overwrite)
     if resume and not part.exists():
         print(f"fastbearing: {out} is already complete; nothing to resume", file=sys.stderr)
         return open_dataset(out) if as_dataset else out
@@ -328,7 +273,7 @@ def loadmap(config, output=None, *, threads=None, resume=False, overwrite=False,
     wall = time.perf_counter() - started
     storage.finish(part, out, cfg.compression, blocks, {"wall_time_s": wall,
                    "status_counts": json.dumps({st.describe(c): k for c, k in counts.items()})},
-                   [v.name for v in _variables(cases.given)])
+                   [v.name for v in storage.result_variables(cases.given)])
     _summary(cases.n_cases, counts, wall, computed)
     return open_dataset(out) if as_dataset else out
 

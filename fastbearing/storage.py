@@ -52,6 +52,69 @@ class Coordinate:
     is_dim: bool = True
 
 
+def _inner_variable(inner):
+    def make(name, trailing, dtype, units, long_name, extra=None):
+        return Variable(name, tuple(inner) + tuple(trailing), dtype, units, long_name, extra or {})
+    return make
+
+
+def result_variables(given: str, inner: tuple[str, ...] = ()) -> list[Variable]:
+    """The per-case result variables; ``inner`` dims (e.g. ("position",)) come between the case dims and
+    each variable's own trailing dims."""
+    from . import status as st
+    from .api import DISPLACEMENT_UNITS, LOAD_UNITS
+
+    V = _inner_variable(inner)
+    flag = {"flag_values": np.array([st.CONVERGED, st.UNLOADED, st.ITERATION_LIMIT, st.SINGULAR,
+                                     st.NONFINITE_INPUT, st.STALLED], np.int8),
+            "flag_meanings": "converged unloaded iteration_limit singular nonfinite_input stalled",
+            "comment": f"low 4 bits: outcome; +{st.CONTACT_REVERSED}: warning contact_reversed (a loaded ball's "
+                       "contact angle crossed zero against its row's contact direction)"}
+    return [
+        V("q", ("dof",), "f8", ", ".join(DISPLACEMENT_UNITS),
+          "inner-ring displacement (dx, dy, dz, bx, by) at the bearing centre"),
+        V("f", ("dof",), "f8", ", ".join(LOAD_UNITS), "load on the inner ring (Fx, Fy, Fz, Mx, My) at q"),
+        V("K", ("dof", "dof_col"), "f8", "N/mm, N*mm/rad, N/rad",
+          "bearing stiffness matrix Kb = df/dq (N/mm among x,y,z; N*mm/rad among tx,ty; N/rad between)"),
+        V("status", (), "i1", "1", "solver status" if given == "load" else "status (0: direct substitution)",
+          flag),
+        V("iterations", (), "i4", "1", "solver iterations"),
+        V("residual", (), "f8", "1", "relative residual max|f(q) - f_target| / max|f_target|, moments / R"),
+        V("max_ball_load", ("row",), "f8", "N", "largest ball load per row"),
+        V("loaded_balls", ("row",), "i2", "1", "number of loaded balls per row"),
+        V("min_contact_angle", ("row",), "f8", "rad", "smallest loaded contact angle per row (on the row's "
+          "contact direction; nan if no ball is loaded)"),
+        V("max_contact_angle", ("row",), "f8", "rad", "largest loaded contact angle per row"),
+    ]
+
+
+def prepare_output(out: Path, fingerprint: str, resume: bool, overwrite: bool) -> tuple[Path, Path, bool]:
+    """Final path, working path, and whether to resume; refuses to clobber anything unasked."""
+    part = part_path(out)
+    if resume and overwrite:
+        raise ValueError("choose one of resume and overwrite")
+    if part.exists():
+        if resume:
+            try:
+                with h5py.File(part, "r") as fh:
+                    same = fh.attrs.get("config_fingerprint") == fingerprint
+            except OSError:
+                raise ValueError(f"{part} is not a readable partial run; start again with overwrite") from None
+            if not same:
+                raise ValueError(f"{part} was started from a different config (or case file); "
+                                 "resume needs the same config, or start again with overwrite")
+            return out, part, True
+        if not overwrite:
+            raise ValueError(f"an unfinished run exists at {part}: resume it (--resume) or start again "
+                             "(--overwrite)")
+        part.unlink()
+    elif resume and not out.exists():
+        raise ValueError(f"nothing to resume: {part} does not exist")
+    if out.exists() and not overwrite and not resume:
+        raise ValueError(f"{out} exists; pass --overwrite (overwrite=True) to replace it")
+    return out, part, False
+
+
 def part_path(path: Path) -> Path:
     return path.with_name(path.name + ".part")
 
@@ -66,8 +129,12 @@ def _early_dcpl() -> h5py.h5p.PropDCID:
 
 
 def create(path: Path, case_dims: list[Coordinate], extra_dims: list[Coordinate], scalars: list[Coordinate],
-           variables: list[Variable], attrs: dict, n_blocks: int, case_coords: list[Coordinate] = ()) -> None:
-    """Create the working file ``path`` (a ``.part``) with every dataset allocated."""
+           variables: list[Variable], attrs: dict, n_blocks: int, aux_coords=()) -> None:
+    """Create the working file ``path`` (a ``.part``) with every dataset allocated.
+
+    ``aux_coords`` are (Coordinate, dim name) pairs: coordinates along a
+    dimension that are not its index, e.g. Fx(case) or cage_angle(position).
+    """
     shape = tuple(len(c.values) for c in case_dims)
     with h5py.File(path, "w", track_order=True) as fh:
         for c in (*case_dims, *extra_dims):
@@ -76,14 +143,14 @@ def create(path: Path, case_dims: list[Coordinate], extra_dims: list[Coordinate]
             ds.attrs["units"] = c.units
             ds.attrs["long_name"] = c.long_name
         dims = {c.name: fh[c.name] for c in (*case_dims, *extra_dims)}
-        coord_names = [c.name for c in scalars] + [c.name for c in case_coords]
+        coord_names = [c.name for c in scalars] + [c.name for c, _ in aux_coords]
         for c in scalars:
             ds = fh.create_dataset(c.name, data=np.float64(c.values[0]))
             ds.attrs["units"] = c.units
             ds.attrs["long_name"] = c.long_name
-        for c in case_coords:  # per-case inputs of a case table, e.g. Fx(case)
+        for c, dim in aux_coords:
             ds = fh.create_dataset(c.name, data=c.values)
-            ds.dims[0].attach_scale(dims[case_dims[0].name])
+            ds.dims[0].attach_scale(dims[dim])
             ds.attrs["units"] = c.units
             ds.attrs["long_name"] = c.long_name
         for v in variables:

@@ -74,6 +74,23 @@ def row_summary(ball_load, contact_angle, ball_row, max_load, n_loaded, min_angl
 MAP_GROUPS = 64
 
 
+@njit(cache=CACHE, nogil=True)
+def operating_point(given_load, inputs, warm, q, f, K, balls, method, rtol, max_iter, length_scale, force_floor,
+                    max_step, work, ball_load, contact_angle):
+    """One case of a map or a ball-passage table: solve for q (load given) or substitute q.
+
+    Returns (status, iterations, residual); fills q, f, K and the per-ball record.
+    """
+    if given_load:
+        st, it, res, ev = solve_case(inputs, q, f, K, balls, method, warm, rtol, max_iter, length_scale,
+                                     force_floor, max_step, work, ball_load, contact_angle)
+        return st, it, res
+    for d in range(5):
+        q[d] = inputs[d]
+    ball_loop(q, balls, f, K, True, ball_load, contact_angle)
+    return 0, 0, 0.0
+
+
 @njit(parallel=True, cache=CACHE, nogil=True)
 def map_sweep(inputs, given_load, line_length, q, f, K, status, iterations, residual, max_load, n_loaded,
               min_angle, max_angle, balls, ball_row, method, rtol, max_iter, length_scale, force_floor, max_step):
@@ -95,23 +112,42 @@ def map_sweep(inputs, given_load, line_length, q, f, K, status, iterations, resi
         for line in range(g, n_lines, groups):
             for k in range(line_length):
                 i = line * line_length + k
-                if given_load:
-                    warm = k > 0 and (status[i - 1] & 15) == 0
-                    if warm:
-                        for d in range(5):
-                            q[i, d] = q[i - 1, d]
-                    st, it, res, ev = solve_case(inputs[i], q[i], f[i], K[i], balls, method, warm, rtol, max_iter,
-                                                 length_scale, force_floor, max_step, work, ball_load,
-                                                 contact_angle)
-                    status[i] = st
-                    iterations[i] = it
-                    residual[i] = res
-                else:
+                warm = k > 0 and (status[i - 1] & 15) == 0
+                if warm:
                     for d in range(5):
-                        q[i, d] = inputs[i, d]
-                    ball_loop(q[i], balls, f[i], K[i], True, ball_load, contact_angle)
-                    status[i] = 0
-                    iterations[i] = 0
-                    residual[i] = 0.0
+                        q[i, d] = q[i - 1, d]
+                status[i], iterations[i], residual[i] = operating_point(
+                    given_load, inputs[i], warm, q[i], f[i], K[i], balls, method, rtol, max_iter, length_scale,
+                    force_floor, max_step, work, ball_load, contact_angle)
                 row_summary(ball_load, contact_angle, ball_row, max_load[i], n_loaded[i], min_angle[i],
                             max_angle[i])
+
+
+@njit(parallel=True, cache=CACHE, nogil=True)
+def passage_sweep(inputs, given_load, tables, q, f, K, status, iterations, residual, max_load, n_loaded, min_angle,
+                  max_angle, ball_row, method, rtol, max_iter, length_scale, force_floor, max_step):
+    """Ball-passage tables, in place: every operating point at every cage position.
+
+    ``tables`` (P, n_balls, 11) holds the ball table at each of P cage
+    angles; outputs are (N, P, ...). Along the positions of one point each
+    solve starts from the previous position's converged q.
+    """
+    n_points = inputs.shape[0]
+    n_positions = tables.shape[0]
+    groups = min(n_points, MAP_GROUPS)
+    n_balls = tables.shape[1]
+    for g in prange(groups):
+        work = np.empty((WORK_ROWS, 5))
+        ball_load = np.empty(n_balls)
+        contact_angle = np.empty(n_balls)
+        for i in range(g, n_points, groups):
+            for p in range(n_positions):
+                warm = p > 0 and (status[i, p - 1] & 15) == 0
+                if warm:
+                    for d in range(5):
+                        q[i, p, d] = q[i, p - 1, d]
+                status[i, p], iterations[i, p], residual[i, p] = operating_point(
+                    given_load, inputs[i], warm, q[i, p], f[i, p], K[i, p], tables[p], method, rtol, max_iter,
+                    length_scale, force_floor, max_step, work, ball_load, contact_angle)
+                row_summary(ball_load, contact_angle, ball_row, max_load[i, p], n_loaded[i, p], min_angle[i, p],
+                            max_angle[i, p])

@@ -1,0 +1,352 @@
+"""Ball-passage (time-varying) stiffness tables.
+
+As the cage turns, balls move through the load zone and Kb varies
+periodically. The whole ball set is rotated through one period in equal
+steps: with q fixed (displacement given) Kb(psi) follows by substitution;
+with f fixed (load given) q(psi) is re-solved at each position, warm-started
+from the previous one. Every position is one call of the one physics kernel.
+The period is 2*pi / gcd(Z_r) (one ball pitch when all rows have the same Z).
+Units: N, mm, rad; time s; frequency Hz.
+"""
+
+from __future__ import annotations
+
+import csv
+import hashlib
+import json
+import math
+import sys
+import time
+from dataclasses import dataclass
+from functools import reduce
+from pathlib import Path
+
+import numpy as np
+
+from . import storage
+from .api import num_threads, solver_settings
+from .bearing import ROW, Bearing
+from .bearing_file import bearing_from_table, read_toml
+from .grid import AXES, LONG_NAMES, UNITS, Axis, CaseSet, parse_axis, plan_blocks
+from .sweep import passage_sweep
+
+_PASSAGE_KEYS = {"given", "points", "positions", "harmonics", "shaft_speed", "ball_diameter", "pitch_diameter",
+                 "rotating", "method", "rtol", "max_iter", "chunk"}
+#: The 15 independent entries of Kb, as (row, column, CSV column name with units).
+K_ENTRIES = [(i, j, f"k{a}{b}_{u}") for i, a in enumerate(("x", "y", "z", "tx", "ty"))
+             for j, b in enumerate(("x", "y", "z", "tx", "ty")) if j >= i
+             for u in ["N/mm" if i < 3 and j < 3 else "N*mm/rad" if i >= 3 and j >= 3 else "N/rad"]]
+
+
+@dataclass(frozen=True)
+class CageSpeed:
+    """Cage kinematics: fc = fs/2 (1 -+ D cos(a0)/dm), - for the inner ring rotating, + for the outer."""
+
+    shaft_speed: float  # rpm
+    ball_diameter: float  # mm
+    pitch_diameter: float  # mm
+    contact_angle: float  # rad
+    rotating: str  # "inner" or "outer"
+
+    @property
+    def cage_frequency(self) -> float:
+        """fc in Hz (cage revolutions per second)."""
+        sign = -1.0 if self.rotating == "inner" else 1.0
+        ratio = self.ball_diameter * math.cos(self.contact_angle) / self.pitch_diameter
+        return self.shaft_speed / 60.0 / 2.0 * (1.0 + sign * ratio)
+
+
+@dataclass(frozen=True)
+class PassageConfig:
+    bearing: Bearing
+    cases: CaseSet
+    positions: int
+    harmonics: int
+    speed: CageSpeed | None
+    method: str
+    rtol: float | None
+    max_iter: int | None
+    chunk: int
+    text: str
+    source: Path | None
+    fingerprint: str
+
+    @property
+    def period_order(self) -> int:
+        """gcd of the rows' ball counts: the table repeats after a cage turn of 2*pi/period_order."""
+        return reduce(math.gcd, (r.n_balls for r in self.bearing.rows))
+
+    @property
+    def period(self) -> float:
+        """Cage-angle period of the table, rad."""
+        return 2.0 * math.pi / self.period_order
+
+    @property
+    def cage_angles(self) -> np.ndarray:
+        """Cage angle of each position, rad; position 0 is the bearing definition's own layout."""
+        return np.arange(self.positions) * self.period / self.positions
+
+
+def _int_key(spec: dict, key: str, default: int, low: int) -> int:
+    value = spec.get(key, default)
+    if isinstance(value, bool) or not isinstance(value, int) or value < low:
+        raise ValueError(f"passage.{key} must be an integer >= {low}, got {value!r}")
+    return value
+
+
+def _positive_key(spec: dict, key: str) -> float:
+    value = spec[key]
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or value <= 0:
+        raise ValueError(f"passage.{key} must be a finite number > 0, got {value!r}")
+    return float(value)
+
+
+def read_config(config) -> PassageConfig:
+    """Parse a ``[bearing]`` + ``[passage]`` config from a TOML path or a dict; ValueError names the field."""
+    source = None
+    if isinstance(config, dict):
+        doc, text = config, json.dumps(config, sort_keys=True, default=str)
+    else:
+        source = Path(config)
+        doc, text = read_toml(source), source.read_text()
+    unknown = sorted(set(doc) - {"bearing", "passage"})
+    if unknown:
+        raise ValueError(f"unknown top-level key(s) {unknown}; a passage config holds [bearing] and [passage]")
+    for table in ("bearing", "passage"):
+        if table not in doc:
+            raise ValueError(f"missing the [{table}] table")
+    bearing = bearing_from_table(doc["bearing"])
+    spec = doc["passage"]
+    given = spec.get("given", "displacement")
+    if given not in AXES:
+        raise ValueError(f"passage.given must be 'displacement' or 'load', got {given!r}")
+    names = AXES[given]
+    for key in spec:
+        if key not in names and key not in _PASSAGE_KEYS:
+            raise ValueError(f"passage: unknown key {key!r} for given = {given!r}; allowed: "
+                             f"{sorted(_PASSAGE_KEYS | set(names))}")
+    positions = _int_key(spec, "positions", 64, 2)
+    harmonics = _int_key(spec, "harmonics", 8, 0)
+    chunk = _int_key(spec, "chunk", 4096, 1)
+    method = spec.get("method", "newton")
+    solver_settings(bearing, method, spec.get("rtol"), spec.get("max_iter"))
+    axes_given = [k for k in spec if k in names]
+    if "points" in spec:
+        if axes_given:
+            raise ValueError(f"passage.points replaces the grid axes; remove {axes_given}")
+        points = spec["points"]
+        if not isinstance(points, list) or not points:
+            raise ValueError("passage.points must be a non-empty list of 5-number lists")
+        table = np.empty((len(points), 5))
+        for i, p in enumerate(points):
+            if not isinstance(p, list) or len(p) != 5:
+                raise ValueError(f"passage.points[{i}] must be 5 numbers ({', '.join(names)}), got {p!r}")
+            for j, v in enumerate(p):
+                if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+                    raise ValueError(f"passage.points[{i}][{j}] must be a finite number, got {v!r}")
+                table[i, j] = v
+        cases = CaseSet(given, table=table, table_dim="point")
+    elif axes_given:
+        axes = []
+        for name, units in zip(names, UNITS[given]):
+            values, is_dim = parse_axis(name, spec.get(name, 0.0), "passage")
+            axes.append(Axis(name, values, units, is_dim))
+        cases = CaseSet(given, axes=tuple(axes), table_dim="point")
+        if not cases.dims:  # constants only: one operating point
+            cases = CaseSet(given, table=cases.inputs(0, 1), table_dim="point")
+    else:
+        raise ValueError(f"passage needs points = [[...], ...] or grid axes ({', '.join(names)})")
+    speed = None
+    speed_keys = [k for k in ("shaft_speed", "ball_diameter", "pitch_diameter") if k in spec]
+    if speed_keys:
+        if len(speed_keys) != 3:
+            raise ValueError("passage: the time axis needs shaft_speed (rpm), ball_diameter and pitch_diameter "
+                             f"(mm) together; got only {speed_keys}")
+        D, dm = _positive_key(spec, "ball_diameter"), _positive_key(spec, "pitch_diameter")
+        if D >= dm:
+            raise ValueError(f"passage.ball_diameter ({D} mm) must be smaller than pitch_diameter ({dm} mm)")
+        rotating = spec.get("rotating", "inner")
+        if rotating not in ("inner", "outer"):
+            raise ValueError(f"passage.rotating must be 'inner' or 'outer', got {rotating!r}")
+        speed = CageSpeed(_positive_key(spec, "shaft_speed"), D, dm, math.radians(bearing.rows[0].contact_angle),
+                          rotating)
+    elif "rotating" in spec:
+        raise ValueError("passage.rotating needs shaft_speed, ball_diameter and pitch_diameter")
+    digest = hashlib.sha256(text.encode()).hexdigest()
+    return PassageConfig(bearing, cases, positions, harmonics, speed, method, spec.get("rtol"),
+                         spec.get("max_iter"), chunk, text, source, digest)
+
+
+def fourier(K: np.ndarray, harmonics: int) -> tuple[np.ndarray, np.ndarray]:
+    """Amplitude and phase (rad) of K(theta) = sum_h A_h cos(h*2*pi*k/P + phi_h), harmonics 0..H.
+
+    K has the positions on axis -3 (..., P, 5, 5). A_0 is the mean; for
+    0 < h < P/2, A_h = 2|c_h|; the Nyquist term (h = P/2) keeps |c_h|.
+    """
+    P = K.shape[-3]
+    H = min(harmonics, P // 2)
+    c = np.fft.rfft(K, axis=-3)[..., :H + 1, :, :] / P
+    amplitude = np.abs(c)
+    amplitude[..., 1:, :, :] *= 2.0
+    if P % 2 == 0 and H == P // 2:
+        amplitude[..., H, :, :] /= 2.0
+    return amplitude, np.angle(c)
+
+
+def variation_summary(K: np.ndarray) -> dict[str, np.ndarray]:
+    """Mean, min, max over positions (axis -3) and peak-to-peak in % of |mean| (nan where the mean is ~0)."""
+    mean, lo, hi = K.mean(axis=-3), K.min(axis=-3), K.max(axis=-3)
+    diag = np.abs(np.diagonal(mean, axis1=-2, axis2=-1))
+    scale = np.sqrt(diag[..., :, None] * diag[..., None, :])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        variation = np.where(np.abs(mean) > 1e-9 * scale, (hi - lo) / np.abs(mean) * 100.0, np.nan)
+    return {"K_mean": mean, "K_min": lo, "K_max": hi, "K_variation": variation}
+
+
+def _create(cfg: PassageConfig, part: Path, blocks) -> list[storage.Variable]:
+    import h5py
+
+    C = storage.Coordinate
+    cases = cfg.cases
+    aux = []
+    if cases.table is not None:
+        case_dims = [C("point", np.arange(cases.n_cases), "1", "operating point number")]
+        aux += [(C(n, cases.table[:, i], u, LONG_NAMES[n]), "point")
+                for i, (n, u) in enumerate(zip(AXES[cases.given], UNITS[cases.given]))]
+        scalars = []
+    else:
+        case_dims = [C(a.name, a.values, a.units, LONG_NAMES[a.name]) for a in cases.dims]
+        scalars = [C(a.name, a.values, a.units, LONG_NAMES[a.name], False) for a in cases.axes if not a.is_dim]
+    H = min(cfg.harmonics, cfg.positions // 2)
+    labels = np.array(storage.DOF_LABELS, dtype=h5py.string_dtype())
+    extra = [C("position", np.arange(cfg.positions), "1", "cage position within one period"),
+             C("harmonic", np.arange(H + 1), "1", "harmonic order of the ball-pass frequency"),
+             C("dof", labels, "1", "degree of freedom: x, y, z translations; tx, ty tilts"),
+             C("dof_col", labels, "1", "degree of freedom (column of K)"),
+             C("row", np.arange(cfg.bearing.n_rows), "1", "bearing row (as in the bearing definition)")]
+    aux.append((C("cage_angle", cfg.cage_angles, "rad",
+                  "cage rotation from the bearing definition's first-ball azimuth"), "position"))
+    attrs = {"period_rad": cfg.period, "period_order": cfg.period_order}
+    if cfg.speed is not None:
+        fc = cfg.speed.cage_frequency
+        aux.append((C("time", cfg.cage_angles / (2 * math.pi * fc), "s", "time from position 0"), "position"))
+        aux.append((C("frequency", np.arange(H + 1) * cfg.period_order * fc, "Hz",
+                      "frequency of each harmonic"), "harmonic"))
+        attrs.update(shaft_speed_rpm=cfg.speed.shaft_speed, rotating_ring=cfg.speed.rotating,
+                     ball_diameter_mm=cfg.speed.ball_diameter, pitch_diameter_mm=cfg.speed.pitch_diameter,
+                     cage_frequency_hz=fc, ball_pass_frequency_hz=cfg.period_order * fc)
+    V = storage.Variable
+    K_units = "N/mm, N*mm/rad, N/rad"
+    variables = storage.result_variables(cases.given, inner=("position",)) + [
+        V("K_mean", ("dof", "dof_col"), "f8", K_units, "mean of Kb over one period"),
+        V("K_min", ("dof", "dof_col"), "f8", K_units, "minimum of Kb over one period"),
+        V("K_max", ("dof", "dof_col"), "f8", K_units, "maximum of Kb over one period"),
+        V("K_variation", ("dof", "dof_col"), "f8", "%",
+          "peak-to-peak variation of Kb over one period in % of |mean| (nan where the mean is ~0)"),
+        V("K_amplitude", ("harmonic", "dof", "dof_col"), "f8", K_units,
+          "Fourier amplitude A_h of Kb: K = sum_h A_h cos(h*2*pi*position/positions + phi_h)"),
+        V("K_phase", ("harmonic", "dof", "dof_col"), "f8", "rad", "Fourier phase phi_h of Kb"),
+    ]
+    opts = solver_settings(cfg.bearing, cfg.method, cfg.rtol, cfg.max_iter)
+    attrs.update({
+        "title": "fastbearing ball-passage stiffness table", "Conventions": "CF-1.8", "given": cases.given,
+        "units_convention": "N, mm, rad; moments N*mm; stiffness N/mm, N*mm/rad, N/rad; time s",
+        "config": cfg.text, "config_source": str(cfg.source or ""), "config_fingerprint": cfg.fingerprint,
+        "bearing": cfg.bearing.describe(), "bearing_json": json.dumps(cfg.bearing.to_dict()),
+        "solver_method": cfg.method, "solver_rtol": opts["rtol"], "solver_max_iter": opts["max_iter"],
+        "positions": cfg.positions, "n_points": cases.n_cases, **storage.versions()})
+    storage.create(part, case_dims, extra, scalars, variables, attrs, len(blocks), aux)
+    return variables
+
+
+def passage(config, output=None, *, threads=None, overwrite=False, csv_files=False, as_dataset=False):
+    """Compute ball-passage stiffness tables and write them to HDF5 (and optionally CSV).
+
+    Parameters
+    ----------
+    config : str, Path or dict
+        A TOML config with ``[bearing]`` and ``[passage]`` tables, or the same as a dict.
+    output : str or Path, optional
+        Output file (default: the config's path with suffix .h5); never
+        replaced unless ``overwrite``.
+    threads : int, optional
+        Numba threads; results do not depend on it.
+    csv_files : bool
+        Also write ``OUTPUT_point0000.csv`` ...: one per operating point, with
+        cage angle (rad), time (s, if a speed is given) and the 15
+        independent Kb entries.
+    as_dataset : bool
+        Return an ``xarray.Dataset`` instead of the path.
+    """
+    cfg = config if isinstance(config, PassageConfig) else read_config(config)
+    if output is None:
+        if cfg.source is None:
+            raise ValueError("output is required when the config is not a file")
+        output = cfg.source.with_suffix(".h5")
+    out = Path(output)
+    csv_paths = [out.with_name(f"{out.stem}_point{i:04d}.csv") for i in range(cfg.cases.n_cases)] if csv_files else []
+    existing = [p for p in csv_paths if p.exists()]
+    if existing and not overwrite:
+        raise ValueError(f"{existing[0]} exists; pass --overwrite (overwrite=True) to replace it")
+    out, part, _ = storage.prepare_output(out, cfg.fingerprint, False, overwrite)
+    cases = cfg.cases
+    blocks = plan_blocks(cases.shape, 1, cfg.chunk)
+    variables = _create(cfg, part, blocks)
+    tables = np.ascontiguousarray(np.stack([cfg.bearing.ball_table(a) for a in cfg.cage_angles]))
+    ball_row = tables[0, :, ROW].astype(np.int64)
+    opts = solver_settings(cfg.bearing, cfg.method, cfg.rtol, cfg.max_iter)
+    started = time.perf_counter()
+    pf = storage.PartFile(part)
+    n_rows, P = cfg.bearing.n_rows, cfg.positions
+    counts: dict[int, int] = {}
+    with num_threads(threads):
+        for block in blocks:
+            n = block.size
+            res = {"q": np.empty((n, P, 5)), "f": np.empty((n, P, 5)), "K": np.empty((n, P, 5, 5)),
+                   "status": np.empty((n, P), np.int8), "iterations": np.empty((n, P), np.int32),
+                   "residual": np.empty((n, P)), "max_ball_load": np.empty((n, P, n_rows)),
+                   "loaded_balls": np.empty((n, P, n_rows), np.int16), "min_contact_angle": np.empty((n, P, n_rows)),
+                   "max_contact_angle": np.empty((n, P, n_rows))}
+            passage_sweep(cases.inputs(block.start, block.stop), cases.given == "load", tables, res["q"], res["f"],
+                          res["K"], res["status"], res["iterations"], res["residual"], res["max_ball_load"],
+                          res["loaded_balls"], res["min_contact_angle"], res["max_contact_angle"], ball_row,
+                          opts["method"], opts["rtol"], opts["max_iter"], opts["length_scale"],
+                          opts["force_floor"], opts["max_step"])
+            res.update(variation_summary(res["K"]))
+            res["K_amplitude"], res["K_phase"] = fourier(res["K"], cfg.harmonics)
+            pf.write(block.slab, res)
+            pf.mark_done(block.index)
+            for code, k in zip(*np.unique(res["status"], return_counts=True)):
+                counts[int(code)] = counts.get(int(code), 0) + int(k)
+            for i, path in enumerate(csv_paths[block.start:block.stop]):
+                _write_csv(path, cfg, res["K"][i])
+    pf.close()
+    wall = time.perf_counter() - started
+    from . import status as st
+
+    storage.finish(part, out, "none", blocks, {"wall_time_s": wall, "status_counts": json.dumps(
+        {st.describe(c): k for c, k in counts.items()})}, [v.name for v in variables])
+    total = cases.n_cases * P
+    ok = sum(k for c, k in counts.items() if st.is_converged(c))
+    print(f"fastbearing: {cases.n_cases} points x {P} positions, {100.0 * ok / total:.2f} % converged; "
+          f"{wall:.2f} s wall", file=sys.stderr)
+    if as_dataset:
+        from .loadmap import open_dataset
+
+        return open_dataset(out)
+    return out
+
+
+def _write_csv(path: Path, cfg: PassageConfig, K: np.ndarray) -> None:
+    """One operating point: position, cage angle (rad), time (s) if known, then the 15 Kb entries."""
+    header = ["position", "cage_angle_rad"] + (["time_s"] if cfg.speed else []) + [e[2] for e in K_ENTRIES]
+    angles = cfg.cage_angles
+    times = angles / (2 * math.pi * cfg.speed.cage_frequency) if cfg.speed else None
+    tmp = path.with_name(path.name + ".part")
+    with tmp.open("w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(header)
+        for p in range(K.shape[0]):
+            row = [p, repr(float(angles[p]))] + ([repr(float(times[p]))] if times is not None else [])
+            w.writerow(row + [repr(float(K[p, i, j])) for i, j, _ in K_ENTRIES])
+    tmp.replace(path)
