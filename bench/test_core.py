@@ -17,7 +17,7 @@ Q = fb.solve(BEARING, TABLE4).q
 
 def numpy_load_stiffness(q, t):
     """Baseline: the same physics vectorised over balls with numpy (what one writes without numba)."""
-    c, s, z, R, ur0, uz0, A0, Kn, n = (t[:, i] for i in range(9))
+    c, s, z, R, ur0, uz0, A0, Kn, n = t[:9]
     ur = (q[0] + z * q[4]) * c + (q[1] - z * q[3]) * s + ur0
     uz = q[2] + R * (q[3] * s - q[4] * c) + uz0
     A = np.hypot(ur, uz)
@@ -36,11 +36,11 @@ def numpy_load_stiffness(q, t):
 
 @pytest.mark.benchmark(group="kernel: f and Kb at q, 28 balls")
 def test_kernel_numba(benchmark):
-    t = BEARING.ball_table()
-    f, K, e = np.empty(5), np.empty((5, 5)), np.empty(0)
-    ball_loop(Q, t, f, K, True, e, e)
-    benchmark(ball_loop, Q, t, f, K, True, e, e)
-    f_np, K_np = numpy_load_stiffness(Q, t)
+    balls = BEARING.ball_set()
+    f, K = np.empty(5), np.empty((5, 5))
+    ball_loop(Q, balls, f, K, None, None)
+    benchmark(ball_loop, Q, balls, f, K, None, None)
+    f_np, K_np = numpy_load_stiffness(Q, balls[0])
     np.testing.assert_allclose(K, K_np, rtol=1e-9, atol=1e-6)
 
 

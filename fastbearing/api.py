@@ -149,8 +149,7 @@ def stiffness(bearing: Bearing, q) -> tuple[np.ndarray, np.ndarray]:
     q = _as_vector(q, "q", "dx, dy, dz in mm; bx, by in rad")
     f = np.empty(5)
     K = np.empty((5, 5))
-    empty = np.empty(0)
-    ball_loop(q, bearing.ball_table(), f, K, True, empty, empty)
+    ball_loop(q, bearing.ball_set(), f, K, None, None)
     return f, K
 
 
@@ -163,7 +162,7 @@ def ball_loads(bearing: Bearing, q) -> tuple[np.ndarray, np.ndarray]:
     q = _as_vector(q, "q", "dx, dy, dz in mm; bx, by in rad")
     Q = np.empty(bearing.n_balls)
     alpha = np.empty(bearing.n_balls)
-    ball_loop(q, bearing.ball_table(), np.empty(5), np.empty((5, 5)), False, Q, alpha)
+    ball_loop(q, bearing.ball_set(), np.empty(5), None, Q, alpha)
     return Q, alpha
 
 
@@ -198,10 +197,9 @@ def solve(bearing: Bearing, f, q0=None, method: str = "newton", rtol=None, max_i
     f_out = np.empty(5)
     K = np.empty((5, 5))
     work = np.empty((WORK_ROWS, 5))
-    empty = work[0, 0:0]
-    code, it, res, ev = solve_case(f_target, q, f_out, K, bearing.ball_table(), opts["method"], warm, opts["rtol"],
+    code, it, res, ev = solve_case(f_target, q, f_out, K, bearing.ball_set(), opts["method"], warm, opts["rtol"],
                                    opts["max_iter"], opts["length_scale"], opts["force_floor"], opts["max_step"],
-                                   work, empty, empty)
+                                   work, None, None)
     return SolveResult(q, f_out, K, int(code), int(it), float(res), int(ev))
 
 
@@ -270,7 +268,7 @@ def solve_many(bearing: Bearing, f, q0=None, method: str = "newton", rtol=None, 
                           np.empty(n), np.empty(n, np.int32))
     with num_threads(threads):
         solve_sweep(f_targets, out.q, out.f, out.K, out.status, out.iterations, out.residual, out.evaluations,
-                    bearing.ball_table(), opts["method"], warm, opts["rtol"], opts["max_iter"],
+                    bearing.ball_set(), opts["method"], warm, opts["rtol"], opts["max_iter"],
                     opts["length_scale"], opts["force_floor"], opts["max_step"], config.SWEEP_BLOCK)
     return out
 
@@ -283,6 +281,6 @@ def stiffness_many(bearing: Bearing, q, threads=None) -> tuple[np.ndarray, np.nd
     f = np.empty((n, 5))
     K = np.empty((n, 5, 5))
     with num_threads(threads):
-        stiffness_sweep(q, f, K, bearing.ball_table(), config.SWEEP_BLOCK)
+        stiffness_sweep(q, f, K, bearing.ball_set(), config.SWEEP_BLOCK)
     return f, K
 

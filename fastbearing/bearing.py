@@ -12,15 +12,19 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, fields, replace
 from functools import cached_property
+from typing import TYPE_CHECKING
 
 import numpy as np
+
+if TYPE_CHECKING:
+    from .geometry import Geometry
 
 ARRANGEMENTS = ("single", "DB", "DF", "DT")
 
 #: Contact direction (the paper's c3) of (row at z = -e, row at z = +e).
 _DOUBLE_ROW_DIRECTIONS = {"DB": (1, -1), "DF": (-1, 1), "DT": (1, 1)}
 
-# Columns of the per-ball table the kernel reads (one row per ball).
+# Rows of the per-ball table the kernel reads (column j is ball j; rows are quantities).
 COS_PSI, SIN_PSI, AXIAL_OFFSET, PITCH_RADIUS, UR0, UZ0, A0, KN, EXPONENT, ROW, DIRECTION = range(11)
 N_BALL_COLUMNS = 11
 
@@ -123,6 +127,8 @@ class Bearing:
     rows: tuple[Row, ...]
     arrangement: str = "custom"
     name: str = ""
+    #: Catalogue geometry the rows were derived from (fastbearing.geometry), or None.
+    geometry: Geometry | None = None
 
     def __post_init__(self):
         rows = tuple(self.rows)
@@ -204,40 +210,53 @@ class Bearing:
         return replace(self, rows=tuple(replace(r, **changes) for r in self.rows))
 
     def ball_table(self, cage_angle: float = 0.0) -> np.ndarray:
-        """Per-ball float64 table (n_balls, 11) the kernel reads; see the column constants.
+        """Per-ball float64 table (11, n_balls), one row per quantity (see the column constants).
 
-        ``cage_angle`` (rad) rotates every ball of every row (ball passage).
-        Row geometry is folded into two constants per ball: the unloaded net
-        radial and axial separations of the groove centres. The table at
-        cage angle 0 is built once per bearing; treat it as read-only.
+        Column-major so the kernel reads each quantity contiguously and can
+        vectorise over balls. ``cage_angle`` (rad) rotates every ball of every
+        row (ball passage). Row geometry is folded into two constants per
+        ball: the unloaded net radial and axial separations of the groove
+        centres. The table at cage angle 0 is built once per bearing; treat
+        it as read-only.
         """
         if cage_angle == 0.0:
             return self._ball_table_at_rest
         return self._build_ball_table(cage_angle)
+
+    def ball_set(self, cage_angle: float = 0.0) -> tuple:
+        """What the kernel reads: (ball table, per-ball exponents or None when every n is 1.5)."""
+        return (self.ball_table(cage_angle), self.ball_exponents)
+
+    @cached_property
+    def ball_exponents(self):
+        """None when every row is Hertzian (n = 1.5, the kernel's sqrt path), else (n_balls,) exponents."""
+        if all(r.exponent == 1.5 for r in self.rows):
+            return None
+        return np.ascontiguousarray(self._ball_table_at_rest[EXPONENT])
 
     @cached_property
     def _ball_table_at_rest(self) -> np.ndarray:
         return self._build_ball_table(0.0)
 
     def _build_ball_table(self, cage_angle: float) -> np.ndarray:
-        table = np.empty((self.n_balls, N_BALL_COLUMNS))
+        table = np.empty((N_BALL_COLUMNS, self.n_balls))
         k = 0
         for i, r in enumerate(self.rows):
             a0 = math.radians(r.contact_angle)
             j = np.arange(r.n_balls)
             psi = math.radians(r.first_ball_angle) + cage_angle + 2.0 * math.pi * j / r.n_balls
             sl = slice(k, k + r.n_balls)
-            table[sl, COS_PSI] = np.cos(psi)
-            table[sl, SIN_PSI] = np.sin(psi)
-            table[sl, AXIAL_OFFSET] = r.axial_offset
-            table[sl, PITCH_RADIUS] = r.pitch_radius
-            table[sl, UR0] = r.groove_center_distance * math.cos(a0) - r.radial_clearance
-            table[sl, UZ0] = r.contact_direction * (r.groove_center_distance * math.sin(a0) + r.axial_preload)
-            table[sl, A0] = r.groove_center_distance
-            table[sl, KN] = r.hertz_constant
-            table[sl, EXPONENT] = r.exponent
-            table[sl, ROW] = i
-            table[sl, DIRECTION] = r.contact_direction
+            table[COS_PSI, sl] = np.cos(psi)
+            table[SIN_PSI, sl] = np.sin(psi)
+            table[AXIAL_OFFSET, sl] = r.axial_offset
+            table[PITCH_RADIUS, sl] = r.pitch_radius
+            table[UR0, sl] = r.groove_center_distance * math.cos(a0) - r.radial_clearance
+            table[UZ0, sl] = r.contact_direction * (r.groove_center_distance * math.sin(a0) + r.axial_preload)
+            table[A0, sl] = r.groove_center_distance
+            table[KN, sl] = r.hertz_constant
+            table[EXPONENT, sl] = r.exponent
+            table[ROW, sl] = i
+            table[DIRECTION, sl] = r.contact_direction
             k += r.n_balls
         return table
 

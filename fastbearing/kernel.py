@@ -3,42 +3,69 @@
 Everything (solver, sweeps, ball-passage tables, reports) calls
 :func:`ball_loop`; there is no other loop over balls that evaluates contacts.
 Units: q in mm and rad; f in N and N*mm; Kb in N/mm, N*mm/rad, N/rad.
+
+The loop body is branch-free (an unloaded ball has delta clamped to 0 and so
+contributes exactly nothing), which lets LLVM vectorise it across balls.
+Optional work is chosen by argument types, so numba compiles a separate,
+specialised loop for each use from this one source: ``K=None`` skips the
+stiffness, ``ball_load=None`` skips the per-ball record, and an exponent of
+``None`` in the ball set means every ball is Hertzian (n = 1.5, sqrt instead
+of pow).
 """
 
 import math
 
-from numba import njit
+from numba import njit, types
+from numba.extending import overload
 
-from .config import CACHE, FASTMATH
+from .config import CACHE, ERROR_MODEL, KERNEL_FASTMATH
 
 
-@njit(cache=CACHE, fastmath=FASTMATH, nogil=True)
-def ball_loop(q, balls, f, K, with_stiffness, ball_load, contact_angle):
-    """Fill f (5) and, if ``with_stiffness``, Kb (5x5) in place at displacement q.
+def contact_law(delta, kn, exponent, j):
+    """Ball load Q = Kn*delta^n and its slope dQ/d(delta) (N, N/mm) for ball j."""
+
+
+@overload(contact_law, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def _contact_law(delta, kn, exponent, j):
+    # chosen while typing, from the exponent's type: no branch in the ball loop
+    if isinstance(exponent, types.NoneType):
+        def hertz(delta, kn, exponent, j):
+            root = math.sqrt(delta)  # n = 1.5: sqrt instead of pow
+            return kn * delta * root, 1.5 * kn * root
+        return hertz
+
+    def power_law(delta, kn, exponent, j):
+        n = exponent[j]
+        return kn * delta ** n, n * kn * delta ** (n - 1.0)
+    return power_law
+
+
+@njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, nogil=True)
+def ball_loop(q, balls, f, K, ball_load, contact_angle):
+    """Fill f (5) and, unless ``K`` is None, Kb (5x5) in place at displacement q.
 
     Per ball (MODEL.md): radial and axial approach of the groove centres, the
     loaded distance A = sqrt(ur^2 + uz^2), Hertz deflection delta = A - A0,
     ball load Q = Kn*delta^n. The ball adds Q*(ur*a + uz*b)/A to f and
     J^T H J to Kb, with J = [a; b] = d(ur, uz)/dq and the 2x2 contact
-    Hessian H = (Q/A)(I - h h^T) + Q' h h^T, h = (ur, uz)/A, Q' = n*Q/delta.
+    Hessian H = (Q/A)(I - h h^T) + Q' h h^T, h = (ur, uz)/A, Q' = dQ/d(delta).
     This compact form equals the paper's Eq. (15a-o) without dividing by ur.
 
     Parameters
     ----------
     q : (5,) float64
         (dx, dy, dz, bx, by) in mm and rad at the bearing centre.
-    balls : (n_balls, 11) float64
-        Per-ball table from :meth:`fastbearing.Bearing.ball_table`.
+    balls : tuple (table, exponent)
+        ``table`` (11, n_balls) float64, column-major per-ball data from
+        :meth:`fastbearing.Bearing.ball_set`; ``exponent`` None (all balls
+        n = 1.5) or (n_balls,) float64 per-ball exponents.
     f : (5,) float64, out
         (Fx, Fy, Fz, Mx, My) on the inner ring in N and N*mm.
-    K : (5, 5) float64, out
-        Kb = df/dq; left untouched when ``with_stiffness`` is False.
-    with_stiffness : bool
-        Skip the Kb update (secant solvers need only f).
-    ball_load, contact_angle : (n_balls,) or (0,) float64, out
+    K : (5, 5) float64 or None, out
+        Kb = df/dq; None skips it (secant solvers need only f).
+    ball_load, contact_angle : (n_balls,) float64 or None, out
         Q_j in N and the loaded contact angle alpha_j in rad, signed so that
-        it is positive on the row's own contact direction. Pass empty arrays
-        to skip recording.
+        it is positive on the row's own contact direction; None skips them.
 
     Returns
     -------
@@ -50,46 +77,48 @@ def ball_loop(q, balls, f, K, with_stiffness, ball_load, contact_angle):
         Loaded balls whose contact angle has the opposite sign to their
         row's contact direction.
     """
+    table, exponent = balls
+    cos_psi = table[0]
+    sin_psi = table[1]
+    offset = table[2]
+    radius = table[3]
+    ur0 = table[4]
+    uz0 = table[5]
+    a0 = table[6]
+    kn = table[7]
+    direction = table[10]
     dx = q[0]
     dy = q[1]
     dz = q[2]
     bx = q[3]
     by = q[4]
-    record = ball_load.shape[0] > 0
     f0 = f1 = f2 = f3 = f4 = 0.0
     k00 = k01 = k02 = k03 = k04 = 0.0
-    k11 = k12 = k13 = k14 = 0.0
+    k11 = k12 = k13 = 0.0
     k22 = k23 = k24 = 0.0
     k33 = k34 = k44 = 0.0
     total = 0.0
     n_loaded = 0
     n_reversed = 0
-    for j in range(balls.shape[0]):
-        c = balls[j, 0]
-        s = balls[j, 1]
-        z = balls[j, 2]
-        R = balls[j, 3]
-        ur = (dx + z * by) * c + (dy - z * bx) * s + balls[j, 4]
-        uz = dz + R * (bx * s - by * c) + balls[j, 5]
+    for j in range(table.shape[1]):
+        c = cos_psi[j]
+        s = sin_psi[j]
+        z = offset[j]
+        R = radius[j]
+        ur = (dx + z * by) * c + (dy - z * bx) * s + ur0[j]
+        uz = dz + R * (bx * s - by * c) + uz0[j]
         A = math.sqrt(ur * ur + uz * uz)
-        delta = A - balls[j, 6]
-        if record:
-            contact_angle[j] = math.atan2(balls[j, 10] * uz, ur)
-            ball_load[j] = 0.0
-        if delta <= 0.0:
-            continue
-        n = balls[j, 8]
-        if n == 1.5:
-            Q = balls[j, 7] * delta * math.sqrt(delta)  # sqrt is far cheaper than pow
-        else:
-            Q = balls[j, 7] * delta ** n
-        if record:
+        delta = max(A - a0[j], 0.0)
+        Q, dQ = contact_law(delta, kn[j], exponent, j)
+        loaded = delta > 0.0
+        n_loaded += loaded
+        n_reversed += loaded & (direction[j] * uz < 0.0)
+        if ball_load is not None:
             ball_load[j] = Q
+            contact_angle[j] = math.atan2(direction[j] * uz, ur)
         total += Q
-        n_loaded += 1
-        if balls[j, 10] * uz < 0.0:
-            n_reversed += 1
-        g = Q / A
+        inv_a = 1.0 / max(A, 1e-300)
+        g = Q * inv_a
         fr = g * ur
         fz = g * uz
         m = R * fz - z * fr
@@ -98,15 +127,15 @@ def ball_loop(q, balls, f, K, with_stiffness, ball_load, contact_angle):
         f2 += fz
         f3 += m * s
         f4 -= m * c
-        if with_stiffness:
-            hr = ur / A
-            hz = uz / A
-            dq = n * Q / delta - g
+        if K is not None:
+            hr = ur * inv_a
+            hz = uz * inv_a
+            dq = dQ - g
             h11 = g + dq * hr * hr
             h12 = dq * hr * hz
             h22 = g + dq * hz * hz
             # Kb += a u^T + b w^T with u = H11 a + H12 b, w = H12 a + H22 b,
-            # a = (c, s, 0, -z s, z c), b = (0, 0, 1, R s, -R c).
+            # a = (c, s, 0, -z s, z c), b = (0, 0, 1, R s, -R c); k14 = -k03.
             p = R * h12 - z * h11
             r = R * h22 - z * h12
             t = R * r - z * p
@@ -121,7 +150,6 @@ def ball_loop(q, balls, f, K, with_stiffness, ball_load, contact_angle):
             k11 += h11 * ss
             k12 += h12 * s
             k13 += ss * p
-            k14 -= cs * p
             k22 += h22
             k23 += s * r
             k24 -= c * r
@@ -133,7 +161,7 @@ def ball_loop(q, balls, f, K, with_stiffness, ball_load, contact_angle):
     f[2] = f2
     f[3] = f3
     f[4] = f4
-    if with_stiffness:
+    if K is not None:
         K[0, 0] = k00
         K[0, 1] = K[1, 0] = k01
         K[0, 2] = K[2, 0] = k02
@@ -142,7 +170,7 @@ def ball_loop(q, balls, f, K, with_stiffness, ball_load, contact_angle):
         K[1, 1] = k11
         K[1, 2] = K[2, 1] = k12
         K[1, 3] = K[3, 1] = k13
-        K[1, 4] = K[4, 1] = k14
+        K[1, 4] = K[4, 1] = -k03
         K[2, 2] = k22
         K[2, 3] = K[3, 2] = k23
         K[2, 4] = K[4, 2] = k24

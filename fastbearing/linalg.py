@@ -8,10 +8,10 @@ import math
 
 from numba import njit
 
-from .config import CACHE, FASTMATH
+from .config import CACHE, ERROR_MODEL, FASTMATH
 
 
-@njit(cache=CACHE, fastmath=FASTMATH, nogil=True)
+@njit(cache=CACHE, fastmath=FASTMATH, error_model=ERROR_MODEL, nogil=True)
 def cholesky_solve(A, shift, b, x, L):
     """Solve (A + shift*I) x = b for symmetric A via Cholesky; False if not positive definite."""
     n = A.shape[0]
@@ -41,7 +41,7 @@ def cholesky_solve(A, shift, b, x, L):
     return True
 
 
-@njit(cache=CACHE, fastmath=FASTMATH, nogil=True)
+@njit(cache=CACHE, fastmath=FASTMATH, error_model=ERROR_MODEL, nogil=True)
 def lu_solve(A, b, x, LU, perm):
     """Solve A x = b by LU with partial pivoting (A unchanged); False if singular."""
     n = A.shape[0]

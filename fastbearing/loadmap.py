@@ -234,8 +234,8 @@ def loadmap(config, output=None, *, threads=None, resume=False, overwrite=False,
     if not resuming:
         _create(cfg, part, blocks)
     opts = solver_settings(cfg.bearing, cfg.method, cfg.rtol, cfg.max_iter)
-    balls = cfg.bearing.ball_table()
-    ball_row = balls[:, ROW].astype(np.int64)
+    balls = cfg.bearing.ball_set()
+    ball_row = balls[0][ROW].astype(np.int64)
     buffers = _Buffers(max(b.size for b in blocks), cfg.bearing.n_rows)
     given_load = cases.given == "load"
     pf = storage.PartFile(part)

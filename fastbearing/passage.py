@@ -293,7 +293,7 @@ def passage(config, output=None, *, threads=None, overwrite=False, csv_files=Fal
     blocks = plan_blocks(cases.shape, 1, cfg.chunk)
     variables = _create(cfg, part, blocks)
     tables = np.ascontiguousarray(np.stack([cfg.bearing.ball_table(a) for a in cfg.cage_angles]))
-    ball_row = tables[0, :, ROW].astype(np.int64)
+    ball_row = tables[0, ROW].astype(np.int64)
     opts = solver_settings(cfg.bearing, cfg.method, cfg.rtol, cfg.max_iter)
     started = time.perf_counter()
     pf = storage.PartFile(part)
@@ -307,7 +307,8 @@ def passage(config, output=None, *, threads=None, overwrite=False, csv_files=Fal
                    "residual": np.empty((n, P)), "max_ball_load": np.empty((n, P, n_rows)),
                    "loaded_balls": np.empty((n, P, n_rows), np.int16), "min_contact_angle": np.empty((n, P, n_rows)),
                    "max_contact_angle": np.empty((n, P, n_rows))}
-            passage_sweep(cases.inputs(block.start, block.stop), cases.given == "load", tables, res["q"], res["f"],
+            passage_sweep(cases.inputs(block.start, block.stop), cases.given == "load", tables,
+                          cfg.bearing.ball_exponents, res["q"], res["f"],
                           res["K"], res["status"], res["iterations"], res["residual"], res["max_ball_load"],
                           res["loaded_balls"], res["min_contact_angle"], res["max_contact_angle"], ball_row,
                           opts["method"], opts["rtol"], opts["max_iter"], opts["length_scale"],

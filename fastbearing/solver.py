@@ -13,7 +13,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .config import CACHE, FASTMATH
+from .config import CACHE, ERROR_MODEL, FASTMATH
 from .kernel import ball_loop
 from .linalg import cholesky_solve, lu_solve
 from .status import CONTACT_REVERSED, CONVERGED, ITERATION_LIMIT, NONFINITE_INPUT, SINGULAR, STALLED, UNLOADED
@@ -30,7 +30,7 @@ _ARMIJO = 1e-4
 _MAX_HALVINGS = 30
 
 
-@njit(cache=CACHE, fastmath=FASTMATH, nogil=True)
+@njit(cache=CACHE, fastmath=FASTMATH, error_model=ERROR_MODEL, nogil=True)
 def _scaled_residual(f, f_target, D, g):
     """g = D (f - f_target); returns (max |g_i|, sum g_i^2)."""
     rmax = 0.0
@@ -44,57 +44,55 @@ def _scaled_residual(f, f_target, D, g):
     return rmax, r2
 
 
-@njit(cache=CACHE, fastmath=FASTMATH, nogil=True)
+@njit(cache=CACHE, fastmath=FASTMATH, error_model=ERROR_MODEL, nogil=True)
 def _tolerance(rtol, scale, total_load):
     # rtol * (load or preload scale), but never below the rounding noise of a
     # sum of ball forces of total size total_load.
     return max(rtol * scale, 1e-13 * total_load)
 
 
-@njit(cache=CACHE, fastmath=FASTMATH, nogil=True)
-def _cold_start(f_target, q, balls, D, max_step, work):
+@njit(cache=CACHE, fastmath=FASTMATH, error_model=ERROR_MODEL, nogil=True)
+def _cold_start(f_target, q, f, K, balls, D, max_step, work):
     """A first q along the load direction, sized so the balls carry about the load.
 
     Starts small (so balls engage), then rescales with the Hertz exponent
     using the load's projection; never q = 0, where Kb = 0 without preload.
-    Returns the number of kernel evaluations used.
+    Leaves f and Kb evaluated at the returned q. Returns (evaluations,
+    total ball load, loaded balls, reversed balls) of that evaluation.
     """
-    f = work[_FT]
-    K = work[_KT:_KT + 5]
-    empty = work[0, 0:0]
     norm2 = 0.0
     for i in range(5):
         norm2 += (f_target[i] * D[i]) ** 2
-    evals = 0
     if norm2 == 0.0:
         for i in range(5):
             q[i] = 0.0
-        return evals
+        total, n_loaded, n_rev = ball_loop(q, balls, f, K, None, None)
+        return 1, total, n_loaded, n_rev
     norm = math.sqrt(norm2)
     size = 0.02 * max_step
-    n_exp = balls[0, 8]
+    n_exp = balls[0][8, 0]  # the first ball's exponent sets the rescale (exact for a uniform n)
+    evals = 0
     for attempt in range(40):
         for i in range(5):
             q[i] = size * f_target[i] * D[i] * D[i] / norm
-        total, n_loaded, n_rev = ball_loop(q, balls, f, K, False, empty, empty)
+        total, n_loaded, n_rev = ball_loop(q, balls, f, None, None, None)
         evals += 1
         if n_loaded > 0:
             break
         size *= 1.5
     saved = work[_Y]
-    for rescale in range(4):
+    for rescale in range(2):
         proj = 0.0
         for i in range(5):
             proj += f[i] * D[i] * f_target[i] * D[i]
         proj /= norm2
         if not proj > 0.0:
             break
-        factor = proj ** (-1.0 / n_exp)
-        factor = min(max(factor, 0.05), 20.0)
+        factor = min(max(proj ** (-1.0 / n_exp), 0.05), 20.0)
         for i in range(5):
             saved[i] = q[i]
             q[i] *= factor
-        total, n_loaded, n_rev = ball_loop(q, balls, f, K, False, empty, empty)
+        total, n_loaded, n_rev = ball_loop(q, balls, f, None, None, None)
         evals += 1
         if n_loaded == 0:
             # shrunk back inside the clearance: keep the last guess that loads balls
@@ -103,14 +101,18 @@ def _cold_start(f_target, q, balls, D, max_step, work):
             break
         if abs(factor - 1.0) < 0.05:
             break
-    return evals
+    total, n_loaded, n_rev = ball_loop(q, balls, f, K, None, None)
+    return evals + 1, total, n_loaded, n_rev
 
 
-@njit(cache=CACHE, fastmath=FASTMATH, nogil=True)
-def _descend(f_target, q, f, K, balls, method, tol_scale, rtol, max_iter, D, max_step, work):
-    """Newton or Broyden from q (f, K already hold the values at q).
+@njit(cache=CACHE, fastmath=FASTMATH, error_model=ERROR_MODEL, nogil=True)
+def _descend(f_target, q, f, K, total, n_loaded, n_rev, balls, method, tol_scale, rtol, max_iter, D, max_step,
+             work):
+    """Newton or Broyden from q; f, K, total, n_loaded, n_rev are the kernel's values at q.
 
-    Returns (status, iterations, residual max-norm, evaluations, total ball load).
+    On return f (and, for Newton, K) hold the values at the returned q.
+    Returns (status, iterations, residual max-norm, evaluations, total ball
+    load, reversed balls).
     """
     g = work[_G]
     dp = work[_STEP]
@@ -123,11 +125,8 @@ def _descend(f_target, q, f, K, balls, method, tol_scale, rtol, max_iter, D, max
     Kt = work[_KT:_KT + 5]
     LU = work[_LU:_LU + 5]
     perm = work[_PERM]
-    empty = work[0, 0:0]
     newton = method == 0
-
-    total, n_loaded, n_rev = ball_loop(q, balls, f, K, True, empty, empty)
-    evals = 1
+    evals = 0
     rmax, r2 = _scaled_residual(f, f_target, D, g)
     lam = 0.0
     fresh_jacobian = True
@@ -136,11 +135,11 @@ def _descend(f_target, q, f, K, balls, method, tol_scale, rtol, max_iter, D, max
             B[i, j] = K[i, j] * D[i] * D[j]
     for it in range(max_iter + 1):
         if rmax <= _tolerance(rtol, tol_scale, total):
-            return CONVERGED, it, rmax, evals, total
+            return CONVERGED, it, rmax, evals, total, n_rev
         if it == max_iter:
             break
         if n_loaded == 0:
-            return SINGULAR, it, rmax, evals, total
+            return SINGULAR, it, rmax, evals, total, n_rev
         for i in range(5):
             rhs[i] = -g[i]
         if newton:
@@ -151,7 +150,7 @@ def _descend(f_target, q, f, K, balls, method, tol_scale, rtol, max_iter, D, max
         for i in range(5):
             diag = max(diag, Ks[i, i] if newton else abs(B[i, i]))
         if not diag > 0.0:
-            return SINGULAR, it, rmax, evals, total
+            return SINGULAR, it, rmax, evals, total, n_rev
         accepted = False
         lam = lam * 0.1 if lam > 1e-12 else 0.0
         for attempt in range(12):
@@ -177,7 +176,10 @@ def _descend(f_target, q, f, K, balls, method, tol_scale, rtol, max_iter, D, max
             for h in range(_MAX_HALVINGS):
                 for i in range(5):
                     qt[i] = q[i] + t * dp[i] * D[i]
-                tot_t, nl_t, nr_t = ball_loop(qt, balls, ft, Kt, newton, empty, empty)
+                if newton:
+                    tot_t, nl_t, nr_t = ball_loop(qt, balls, ft, Kt, None, None)
+                else:
+                    tot_t, nl_t, nr_t = ball_loop(qt, balls, ft, None, None, None)
                 evals += 1
                 rmax_t, r2_t = _scaled_residual(ft, f_target, D, gt)
                 # an unloaded trial point has Kb = 0: no information to go on from
@@ -191,7 +193,7 @@ def _descend(f_target, q, f, K, balls, method, tol_scale, rtol, max_iter, D, max
                 lam = max(lam * 100.0, 1e-8)
             elif not fresh_jacobian:
                 # secant matrix went stale: restart it from the analytic Kb at q
-                ball_loop(q, balls, ft, Kt, True, empty, empty)
+                ball_loop(q, balls, ft, Kt, None, None)
                 evals += 1
                 for i in range(5):
                     for j in range(5):
@@ -202,7 +204,7 @@ def _descend(f_target, q, f, K, balls, method, tol_scale, rtol, max_iter, D, max
                 for i in range(5):
                     B[i, i] += lam * diag
         if not accepted:
-            return STALLED, it, rmax, evals, total
+            return STALLED, it, rmax, evals, total, n_rev
         if not newton:
             # good Broyden update: B += (y - B s) s^T / (s^T s), y = g_t - g, s = t*dp
             ss = 0.0
@@ -229,12 +231,13 @@ def _descend(f_target, q, f, K, balls, method, tol_scale, rtol, max_iter, D, max
                     K[i, j] = Kt[i, j]
         total = tot_t
         n_loaded = nl_t
+        n_rev = nr_t
         rmax = rmax_t
         r2 = r2_t
-    return ITERATION_LIMIT, max_iter, rmax, evals, total
+    return ITERATION_LIMIT, max_iter, rmax, evals, total, n_rev
 
 
-@njit(cache=CACHE, fastmath=FASTMATH, nogil=True)
+@njit(cache=CACHE, fastmath=FASTMATH, error_model=ERROR_MODEL, nogil=True)
 def solve_case(f_target, q, f, K, balls, method, warm, rtol, max_iter, length_scale, force_floor, max_step, work,
                ball_load, contact_angle):
     """Find q with f(q) = f_target; fill q (5), f (5) and Kb (5x5) in place.
@@ -247,8 +250,8 @@ def solve_case(f_target, q, f, K, balls, method, warm, rtol, max_iter, length_sc
         Start when ``warm`` is True; the solution (mm, rad) on return.
     f, K : out
         Load at the returned q (N, N*mm) and Kb there (N/mm, N*mm/rad, N/rad).
-    balls : (n_balls, 11) float64
-        Ball table of the bearing.
+    balls : tuple
+        Ball set of the bearing (:meth:`fastbearing.Bearing.ball_set`).
     method : int
         0 Newton, 1 Broyden.
     warm : bool
@@ -265,9 +268,9 @@ def solve_case(f_target, q, f, K, balls, method, warm, rtol, max_iter, length_sc
         Largest step per iteration in scaled units (mm).
     work : (WORK_ROWS, 5) float64
         Scratch.
-    ball_load, contact_angle : (n_balls,) or (0,) float64, out
+    ball_load, contact_angle : (n_balls,) float64 or None, out
         Per-ball load (N) and contact angle (rad) at the returned q, as in
-        :func:`fastbearing.kernel.ball_loop`; empty arrays skip recording.
+        :func:`fastbearing.kernel.ball_loop`; None skips recording.
 
     Returns
     -------
@@ -281,7 +284,6 @@ def solve_case(f_target, q, f, K, balls, method, warm, rtol, max_iter, length_sc
         Kernel evaluations.
     """
     D = work[_D]
-    q0 = work[_Q0]
     fc = work[_FC]
     D[0] = D[1] = D[2] = 1.0
     D[3] = D[4] = 1.0 / length_scale
@@ -289,9 +291,10 @@ def solve_case(f_target, q, f, K, balls, method, warm, rtol, max_iter, length_sc
     for i in range(5):
         finite = finite and math.isfinite(f_target[i]) and (not warm or math.isfinite(q[i]))
     if not finite:
-        for j in range(ball_load.shape[0]):
-            ball_load[j] = math.nan
-            contact_angle[j] = math.nan
+        if ball_load is not None:
+            for j in range(ball_load.shape[0]):
+                ball_load[j] = math.nan
+                contact_angle[j] = math.nan
         for i in range(5):
             q[i] = math.nan
             f[i] = math.nan
@@ -305,44 +308,48 @@ def solve_case(f_target, q, f, K, balls, method, warm, rtol, max_iter, length_sc
     if scale == 0.0:
         for i in range(5):
             q[i] = 0.0
-        ball_loop(q, balls, f, K, True, ball_load, contact_angle)
+        ball_loop(q, balls, f, K, ball_load, contact_angle)
         return UNLOADED, 0, 0.0, 1
 
     iterations = 0
     evals = 0
-    for i in range(5):
-        q0[i] = q[i]
     status = STALLED
     for attempt in range(2):
-        if attempt == 1 or not warm:
-            if attempt == 1 and not warm:
-                break
-            evals += _cold_start(f_target, q, balls, D, max_step, work)
-        status, it, rmax, ev, total = _descend(f_target, q, f, K, balls, method, scale, rtol, max_iter, D,
-                                               max_step, work)
+        if warm and attempt == 0:
+            total, n_loaded, n_rev = ball_loop(q, balls, f, K, None, None)
+            ev = 1
+        elif attempt == 1 and not warm:
+            break
+        else:
+            ev, total, n_loaded, n_rev = _cold_start(f_target, q, f, K, balls, D, max_step, work)
+        evals += ev
+        status, it, rmax, ev, total, n_rev = _descend(f_target, q, f, K, total, n_loaded, n_rev, balls, method,
+                                                      scale, rtol, max_iter, D, max_step, work)
         iterations += it
         evals += ev
         if status == CONVERGED:
             break
     if status != CONVERGED:
-        status, it, rmax, ev = _continuation(f_target, q, f, K, balls, method, scale, rtol, max_iter, D,
-                                             max_step, fc, work)
+        status, it, rmax, ev, n_rev = _continuation(f_target, q, f, K, balls, method, scale, rtol, max_iter, D,
+                                                    max_step, fc, work)
         iterations += it
         evals += ev
-    total, n_loaded, n_rev = ball_loop(q, balls, f, K, True, ball_load, contact_angle)
-    evals += 1
-    rmax, r2 = _scaled_residual(f, f_target, D, work[_G])
+    if ball_load is not None or method != 0 or status != CONVERGED:
+        # Newton's last accepted step already left f and Kb at q; otherwise evaluate once more
+        total, n_loaded, n_rev = ball_loop(q, balls, f, K, ball_load, contact_angle)
+        evals += 1
+        rmax, r2 = _scaled_residual(f, f_target, D, work[_G])
     if status == CONVERGED and n_rev > 0:
         status |= CONTACT_REVERSED
     return status, iterations, rmax / scale, evals
 
 
-@njit(cache=CACHE, fastmath=FASTMATH, nogil=True)
+@njit(cache=CACHE, fastmath=FASTMATH, error_model=ERROR_MODEL, nogil=True)
 def _continuation(f_target, q, f, K, balls, method, scale, rtol, max_iter, D, max_step, fc, work):
     """Load stepping: solve for tau*f_target, tau rising to 1, each warm from the last.
 
     Helps where clearance or preload make the problem far from self-similar.
-    Returns (status, iterations, residual, evaluations).
+    Returns (status, iterations, residual, evaluations, reversed balls).
     """
     iterations = 0
     evals = 0
@@ -350,7 +357,8 @@ def _continuation(f_target, q, f, K, balls, method, scale, rtol, max_iter, D, ma
     step = 0.1
     for i in range(5):
         fc[i] = tau * f_target[i]
-    evals += _cold_start(fc, q, balls, D, max_step, work)
+    ev, total, n_loaded, n_rev = _cold_start(fc, q, f, K, balls, D, max_step, work)
+    evals += ev
     status = STALLED
     rmax = math.inf
     for k in range(64):
@@ -358,13 +366,13 @@ def _continuation(f_target, q, f, K, balls, method, scale, rtol, max_iter, D, ma
             fc[i] = tau * f_target[i]
         for i in range(5):
             work[_Q0, i] = q[i]
-        status, it, rmax, ev, total = _descend(fc, q, f, K, balls, method, scale, rtol, max_iter, D, max_step,
-                                               work)
+        status, it, rmax, ev, total, n_rev = _descend(fc, q, f, K, total, n_loaded, n_rev, balls, method, scale,
+                                                      rtol, max_iter, D, max_step, work)
         iterations += it
         evals += ev
         if status == CONVERGED:
             if tau >= 1.0:
-                return status, iterations, rmax, evals
+                return status, iterations, rmax, evals, n_rev
             step = min(step * 2.0, 1.0 - tau)
         else:
             for i in range(5):
@@ -372,6 +380,9 @@ def _continuation(f_target, q, f, K, balls, method, scale, rtol, max_iter, D, ma
             tau -= step
             step *= 0.25
             if step < 1e-4:
-                return status, iterations, rmax, evals
+                return status, iterations, rmax, evals, n_rev
         tau = min(tau + step, 1.0)
-    return status, iterations, rmax, evals
+        # the next load level starts from the last converged q: evaluate there
+        total, n_loaded, n_rev = ball_loop(q, balls, f, K, None, None)
+        evals += 1
+    return status, iterations, rmax, evals, n_rev

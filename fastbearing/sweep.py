@@ -8,12 +8,12 @@ thread ran it.
 import numpy as np
 from numba import njit, prange
 
-from .config import CACHE
+from .config import CACHE, ERROR_MODEL
 from .kernel import ball_loop
 from .solver import WORK_ROWS, solve_case
 
 
-@njit(parallel=True, cache=CACHE)
+@njit(parallel=True, cache=CACHE, error_model=ERROR_MODEL)
 def solve_sweep(f_targets, q, f, K, status, iterations, residual, evaluations, balls, method, warm, rtol,
                 max_iter, length_scale, force_floor, max_step, block):
     """Solve every row of ``f_targets`` (N, 5); q (N, 5) holds warm starts when ``warm``."""
@@ -21,28 +21,26 @@ def solve_sweep(f_targets, q, f, K, status, iterations, residual, evaluations, b
     n_blocks = (n + block - 1) // block
     for b in prange(n_blocks):
         work = np.empty((WORK_ROWS, 5))
-        empty = work[0, 0:0]
         for i in range(b * block, min(n, (b + 1) * block)):
             st, it, res, ev = solve_case(f_targets[i], q[i], f[i], K[i], balls, method, warm, rtol, max_iter,
-                                         length_scale, force_floor, max_step, work, empty, empty)
+                                         length_scale, force_floor, max_step, work, None, None)
             status[i] = st
             iterations[i] = it
             residual[i] = res
             evaluations[i] = ev
 
 
-@njit(parallel=True, cache=CACHE)
+@njit(parallel=True, cache=CACHE, error_model=ERROR_MODEL)
 def stiffness_sweep(q, f, K, balls, block):
     """f and Kb at every row of q (N, 5) by direct substitution."""
     n = q.shape[0]
     n_blocks = (n + block - 1) // block
-    empty = np.empty(0)
     for b in prange(n_blocks):
         for i in range(b * block, min(n, (b + 1) * block)):
-            ball_loop(q[i], balls, f[i], K[i], True, empty, empty)
+            ball_loop(q[i], balls, f[i], K[i], None, None)
 
 
-@njit(cache=CACHE, nogil=True)
+@njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True)
 def row_summary(ball_load, contact_angle, ball_row, max_load, n_loaded, min_angle, max_angle):
     """Per-row load distribution from one evaluation's per-ball record.
 
@@ -74,7 +72,7 @@ def row_summary(ball_load, contact_angle, ball_row, max_load, n_loaded, min_angl
 MAP_GROUPS = 64
 
 
-@njit(cache=CACHE, nogil=True)
+@njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True)
 def operating_point(given_load, inputs, warm, q, f, K, balls, method, rtol, max_iter, length_scale, force_floor,
                     max_step, work, ball_load, contact_angle):
     """One case of a map or a ball-passage table: solve for q (load given) or substitute q.
@@ -87,16 +85,16 @@ def operating_point(given_load, inputs, warm, q, f, K, balls, method, rtol, max_
         return st, it, res
     for d in range(5):
         q[d] = inputs[d]
-    ball_loop(q, balls, f, K, True, ball_load, contact_angle)
+    ball_loop(q, balls, f, K, ball_load, contact_angle)
     return 0, 0, 0.0
 
 
-@njit(parallel=True, cache=CACHE, nogil=True)
+@njit(parallel=True, cache=CACHE, error_model=ERROR_MODEL, nogil=True)
 def map_sweep(inputs, given_load, line_length, q, f, K, status, iterations, residual, max_load, n_loaded,
               min_angle, max_angle, balls, ball_row, method, rtol, max_iter, length_scale, force_floor, max_step):
     """One block of a load or displacement map, in place.
 
-    ``inputs`` (N, 5) are loads (N, N*mm) when ``given_load`` else
+    ``balls`` is the bearing's ball set. ``inputs`` (N, 5) are loads (N, N*mm) when ``given_load`` else
     displacements (mm, rad). Cases come in lines of ``line_length``
     consecutive cases along the fastest grid axis: each line starts cold and
     each later case starts from its neighbour's converged q (continuation),
@@ -104,7 +102,7 @@ def map_sweep(inputs, given_load, line_length, q, f, K, status, iterations, resi
     """
     n_lines = inputs.shape[0] // line_length
     groups = min(n_lines, MAP_GROUPS)
-    n_balls = balls.shape[0]
+    n_balls = balls[0].shape[1]
     for g in prange(groups):
         work = np.empty((WORK_ROWS, 5))
         ball_load = np.empty(n_balls)
@@ -123,19 +121,20 @@ def map_sweep(inputs, given_load, line_length, q, f, K, status, iterations, resi
                             max_angle[i])
 
 
-@njit(parallel=True, cache=CACHE, nogil=True)
-def passage_sweep(inputs, given_load, tables, q, f, K, status, iterations, residual, max_load, n_loaded, min_angle,
-                  max_angle, ball_row, method, rtol, max_iter, length_scale, force_floor, max_step):
+@njit(parallel=True, cache=CACHE, error_model=ERROR_MODEL, nogil=True)
+def passage_sweep(inputs, given_load, tables, exponent, q, f, K, status, iterations, residual, max_load, n_loaded,
+                  min_angle, max_angle, ball_row, method, rtol, max_iter, length_scale, force_floor, max_step):
     """Ball-passage tables, in place: every operating point at every cage position.
 
-    ``tables`` (P, n_balls, 11) holds the ball table at each of P cage
-    angles; outputs are (N, P, ...). Along the positions of one point each
-    solve starts from the previous position's converged q.
+    ``tables`` (P, 11, n_balls) holds the ball table at each of P cage
+    angles (``exponent`` as in a ball set); outputs are (N, P, ...). Along
+    the positions of one point each solve starts from the previous
+    position's converged q.
     """
     n_points = inputs.shape[0]
     n_positions = tables.shape[0]
     groups = min(n_points, MAP_GROUPS)
-    n_balls = tables.shape[1]
+    n_balls = tables.shape[2]
     for g in prange(groups):
         work = np.empty((WORK_ROWS, 5))
         ball_load = np.empty(n_balls)
@@ -147,7 +146,7 @@ def passage_sweep(inputs, given_load, tables, q, f, K, status, iterations, resid
                     for d in range(5):
                         q[i, p, d] = q[i, p - 1, d]
                 status[i, p], iterations[i, p], residual[i, p] = operating_point(
-                    given_load, inputs[i], warm, q[i, p], f[i, p], K[i, p], tables[p], method, rtol, max_iter,
+                    given_load, inputs[i], warm, q[i, p], f[i, p], K[i, p], (tables[p], exponent), method, rtol, max_iter,
                     length_scale, force_floor, max_step, work, ball_load, contact_angle)
                 row_summary(ball_load, contact_angle, ball_row, max_load[i, p], n_loaded[i, p], min_angle[i, p],
                             max_angle[i, p])

@@ -151,8 +151,10 @@ def test_api_rejects_bad_vectors_before_any_kernel():
 def test_ball_table_geometry():
     b = fb.Bearing.preset("gunduz2013", "DB")
     t = b.ball_table()
-    assert t.shape == (28, fb.bearing.N_BALL_COLUMNS)
-    np.testing.assert_allclose(t[:14, fb.bearing.UZ0], 0.52 * 0.5)
-    np.testing.assert_allclose(t[14:, fb.bearing.UZ0], -0.52 * 0.5)
+    assert t.shape == (fb.bearing.N_BALL_COLUMNS, 28)
+    np.testing.assert_allclose(t[fb.bearing.UZ0, :14], 0.52 * 0.5)
+    np.testing.assert_allclose(t[fb.bearing.UZ0, 14:], -0.52 * 0.5)
     rotated = b.ball_table(cage_angle=2 * np.pi / 14)
-    np.testing.assert_allclose(rotated[:13, :2], t[1:14, :2], atol=1e-14)
+    np.testing.assert_allclose(rotated[:2, :13], t[:2, 1:14], atol=1e-14)
+    assert b.ball_exponents is None
+    assert fb.Bearing.preset("gunduz2013", exponent=1.4).ball_exponents.tolist() == [1.4] * 28

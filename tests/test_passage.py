@@ -76,7 +76,7 @@ def test_table_is_periodic_and_position_zero_is_the_definition(tmp_path):
     np.testing.assert_array_equal(K[0, 0], fb.stiffness(bearing, q)[1])
     from fastbearing.kernel import ball_loop
     f, K_period = np.empty(5), np.empty((5, 5))
-    ball_loop(q, bearing.ball_table(cage_angle=2 * math.pi / 14), f, K_period, True, np.empty(0), np.empty(0))
+    ball_loop(q, bearing.ball_set(cage_angle=2 * math.pi / 14), f, K_period, None, None)
     np.testing.assert_allclose(K_period, K[0, 0], rtol=1e-9, atol=1e-9 * np.abs(K[0, 0]).max())
 
 
@@ -126,8 +126,7 @@ def test_rows_with_different_ball_counts_use_the_common_period(tmp_path):
     np.testing.assert_allclose(angle, np.arange(12) * math.pi / 12)
     from fastbearing.kernel import ball_loop
     f, K_end = np.empty(5), np.empty((5, 5))
-    ball_loop(np.array([0.05, 0, 0.01, 0, 0]), cfg.bearing.ball_table(math.pi), f, K_end, True, np.empty(0),
-              np.empty(0))
+    ball_loop(np.array([0.05, 0, 0.01, 0, 0]), cfg.bearing.ball_set(math.pi), f, K_end, None, None)
     np.testing.assert_allclose(K_end, K[0, 0], rtol=1e-9, atol=1e-9 * np.abs(K_end).max())
     # a quarter turn is not a period of this set
     assert np.abs(K[0, 6] - K[0, 0]).max() > 1e-6 * np.abs(K[0, 0]).max()

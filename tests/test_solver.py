@@ -162,8 +162,8 @@ def test_nonfinite_input_returns_status_inside_kernel():
     """The njit solver never raises: a nan load comes back as a status."""
     bearing = fb.Bearing.preset("gunduz2013", "DB")
     q, f, K = np.zeros(5), np.empty(5), np.empty((5, 5))
-    code, it, res, ev = solve_case(np.array([np.nan, 0, 0, 0, 0]), q, f, K, bearing.ball_table(), 0, False, 1e-10,
-                                   50, 34.75, 0.0, 0.26, np.empty((WORK_ROWS, 5)), np.empty(0), np.empty(0))
+    code, it, res, ev = solve_case(np.array([np.nan, 0, 0, 0, 0]), q, f, K, bearing.ball_set(), 0, False, 1e-10,
+                                   50, 34.75, 0.0, 0.26, np.empty((WORK_ROWS, 5)), None, None)
     assert code == st.NONFINITE_INPUT and np.isnan(q).all()
 
 
@@ -193,7 +193,7 @@ def test_load_stepping_fallback_converges_on_its_own(arrangement, extra):
     work[_D] = [1, 1, 1, 1 / o["length_scale"], 1 / o["length_scale"]]
     q, f, K = np.zeros(5), np.empty(5), np.empty((5, 5))
     scale = max(np.abs(load * work[_D]).max(), o["force_floor"])
-    code, it, res, ev = _continuation(load, q, f, K, bearing.ball_table(), 0, scale, o["rtol"], o["max_iter"],
+    code, it, res, ev, n_rev = _continuation(load, q, f, K, bearing.ball_set(), 0, scale, o["rtol"], o["max_iter"],
                                       work[_D], o["max_step"], work[_FC], work)
     assert code == st.CONVERGED
     np.testing.assert_allclose(q, fb.solve(bearing, load).q, rtol=1e-8, atol=1e-12)
