@@ -13,31 +13,34 @@ from .config import CACHE, ERROR_MODEL, FASTMATH
 
 @njit(cache=CACHE, fastmath=FASTMATH, error_model=ERROR_MODEL, nogil=True)
 def cholesky_solve(A, shift, b, x, L):
-    """Solve (A + shift*I) x = b for symmetric A via Cholesky; False if not positive definite."""
-    n = A.shape[0]
+    """Solve (A + shift*I) x = b for symmetric 5x5 A via Cholesky; False if not positive definite.
+
+    The fixed size lets LLVM unroll the loops; the diagonal of L is stored
+    as reciprocals so the whole solve needs 5 divisions.
+    """
+    n = 5
     for i in range(n):
         for j in range(i + 1):
             s = A[i, j]
-            if i == j:
-                s += shift
             for k in range(j):
                 s -= L[i, k] * L[j, k]
             if i == j:
+                s += shift
                 if not s > 0.0:  # also catches nan
                     return False
-                L[i, i] = math.sqrt(s)
+                L[i, i] = 1.0 / math.sqrt(s)  # reciprocal of the diagonal
             else:
-                L[i, j] = s / L[j, j]
+                L[i, j] = s * L[j, j]
     for i in range(n):
         s = b[i]
         for k in range(i):
             s -= L[i, k] * x[k]
-        x[i] = s / L[i, i]
+        x[i] = s * L[i, i]
     for i in range(n - 1, -1, -1):
         s = x[i]
         for k in range(i + 1, n):
             s -= L[k, i] * x[k]
-        x[i] = s / L[i, i]
+        x[i] = s * L[i, i]
     return True
 
 

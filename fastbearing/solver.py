@@ -80,28 +80,22 @@ def _cold_start(f_target, q, f, K, balls, D, max_step, work):
         if n_loaded > 0:
             break
         size *= 1.5
-    saved = work[_Y]
-    for rescale in range(2):
-        proj = 0.0
-        for i in range(5):
-            proj += f[i] * D[i] * f_target[i] * D[i]
-        proj /= norm2
-        if not proj > 0.0:
-            break
-        factor = min(max(proj ** (-1.0 / n_exp), 0.05), 20.0)
-        for i in range(5):
-            saved[i] = q[i]
-            q[i] *= factor
-        total, n_loaded, n_rev = ball_loop(q, balls, f, None, None, None)
-        evals += 1
-        if n_loaded == 0:
-            # shrunk back inside the clearance: keep the last guess that loads balls
-            for i in range(5):
-                q[i] = saved[i]
-            break
-        if abs(factor - 1.0) < 0.05:
-            break
+    # rescale once with the Hertz exponent from the load's projection; this
+    # evaluation also gives Kb, so the solver starts from it directly
+    proj = 0.0
+    for i in range(5):
+        proj += f[i] * D[i] * f_target[i] * D[i]
+    proj /= norm2
+    factor = min(max(proj ** (-1.0 / n_exp), 0.05), 20.0) if proj > 0.0 else 1.0
+    for i in range(5):
+        q[i] *= factor
     total, n_loaded, n_rev = ball_loop(q, balls, f, K, None, None)
+    if n_loaded == 0:
+        # shrunk back inside the clearance: keep the guess that loads balls
+        for i in range(5):
+            q[i] /= factor
+        total, n_loaded, n_rev = ball_loop(q, balls, f, K, None, None)
+        evals += 1
     return evals + 1, total, n_loaded, n_rev
 
 
@@ -165,13 +159,18 @@ def _descend(f_target, q, f, K, total, n_loaded, n_rev, balls, method, tol_scale
                         B[i, i] += max(lam, 1e-10) * diag
                 lam = max(lam * 10.0, 1e-12)
                 continue
-            # limit the step so one iteration cannot jump far outside the contact zone
+            # Hertz contacts stiffen as they load, so a Newton step from a light
+            # state overshoots: let one step at most double the displacement
+            # (scaled, mm), and never exceed max_step
             big = 0.0
+            size = 0.0
             for i in range(5):
                 big = max(big, abs(dp[i]))
-            if big > max_step:
+                size = max(size, abs(q[i] / D[i]))
+            cap = min(max_step, max(size, 0.05 * max_step))
+            if big > cap:
                 for i in range(5):
-                    dp[i] *= max_step / big
+                    dp[i] *= cap / big
             t = 1.0
             for h in range(_MAX_HALVINGS):
                 for i in range(5):
