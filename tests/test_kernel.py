@@ -235,6 +235,12 @@ def test_kernel_matches_printed_equations_property(q, tilt, angle, arrangement):
     qv = np.array(q + tilt)
     f, K = fb.stiffness(bearing, qv)
     f_ref, K_ref = naive_load_stiffness(qv, rows)
-    np.testing.assert_allclose(f, f_ref, rtol=1e-9, atol=1e-9 * max(1.0, np.abs(f_ref).max()))
-    if K_ref.any():
-        assert scaled_error(K, K_ref) < 1e-8
+    if not K_ref.any():
+        assert not K.any()
+        return
+    # delta = A - A0 cancels: it is known only to ~eps*A0/delta, and Kb ~ sqrt(delta)
+    Q, _ = fb.ball_loads(bearing, qv)
+    delta = (Q.max() / 395000.0) ** (2 / 3)
+    tol = 1e-9 + 1e-14 * 0.52 / delta
+    np.testing.assert_allclose(f, f_ref, rtol=tol, atol=tol * np.abs(f_ref).max())
+    assert scaled_error(K, K_ref) < tol
