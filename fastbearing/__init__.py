@@ -20,6 +20,8 @@ from .api import (SolveManyResult, SolveResult, ball_loads, num_threads, solve, 
                   stiffness_many)
 from .bearing import ARRANGEMENTS, Bearing, Row
 from .bearing_file import bearing_from_table, load_bearing, preset_names
+from .geometry import (MATERIALS, SILICON_NITRIDE, STEEL, BallContacts, Geometry, HertzContact, Material,
+                       ball_contacts, geometry_from_table, hertz_contact, race_contacts)
 from .loadmap import loadmap, open_dataset
 from .passage import passage
 
@@ -30,4 +32,5 @@ except PackageNotFoundError:  # running from a source tree
 
 __all__ = ["ARRANGEMENTS", "Bearing", "Row", "SolveManyResult", "SolveResult", "ball_loads", "bearing_from_table",
            "load_bearing", "loadmap", "num_threads", "open_dataset", "passage", "preset_names", "solve", "solve_many", "status", "stiffness",
-           "stiffness_many"]
+           "stiffness_many", "MATERIALS", "STEEL", "SILICON_NITRIDE", "BallContacts", "Geometry", "HertzContact",
+           "Material", "ball_contacts", "geometry_from_table", "hertz_contact", "race_contacts"]

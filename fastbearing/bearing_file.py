@@ -3,20 +3,28 @@
 The ``[bearing]`` table is the public format: either the compact form
 (``arrangement`` plus the row keys shared by all rows) or a general set of
 ``[[bearing.rows]]``. ``preset = "NAME"`` starts from a shipped bearing and
-any other key overrides it.
+any other key overrides it. A ``[bearing.geometry]`` sub-table defines the
+rows from catalogue geometry instead (:mod:`fastbearing.geometry`).
 """
 
 from __future__ import annotations
 
 import tomllib
+from dataclasses import replace
 from importlib import resources
 from pathlib import Path
 
 from .bearing import ARRANGEMENTS, ROW_KEYS, Bearing, _per_row, _row
+from .geometry import geometry_from_table
 
 _SHARED_KEYS = ("n_balls", "hertz_constant", "pitch_radius", "groove_center_distance", "contact_angle",
                 "exponent", "radial_clearance", "first_ball_angle")
-_TABLE_KEYS = set(_SHARED_KEYS) | {"arrangement", "row_offset", "axial_preload", "preset", "name", "rows"}
+_TABLE_KEYS = set(_SHARED_KEYS) | {"arrangement", "row_offset", "axial_preload", "preset", "name", "rows", "geometry"}
+#: Keys a [bearing.geometry] table derives; giving them in [bearing] too would be ambiguous.
+_GEOMETRY_DERIVED = ("n_balls", "hertz_constant", "pitch_radius", "groove_center_distance", "contact_angle",
+                     "exponent", "radial_clearance", "row_offset")
+#: Row keys that stay per row when the rows share one geometry.
+_GEOMETRY_ROW_KEYS = ("axial_offset", "contact_direction", "axial_preload", "first_ball_angle")
 
 
 def preset_names() -> list[str]:
@@ -48,6 +56,8 @@ def bearing_from_table(table: dict, where: str = "bearing") -> Bearing:
     if unknown:
         raise ValueError(f"{where}: unknown key(s) {unknown}; allowed: {sorted(_TABLE_KEYS)}")
     table = dict(table)
+    if "geometry" in table:
+        return _geometry_bearing(table, where)
     if "preset" in table:
         base = dict(_preset_table(table.pop("preset")))
         if "rows" in table:
@@ -99,6 +109,59 @@ def _rows_bearing(table: dict, where: str, name: str) -> Bearing:
         return Bearing.from_rows(built, name=name)
     except ValueError as err:
         raise ValueError(_prefixed(where, err)) from None
+
+
+def _geometry_bearing(table: dict, where: str) -> Bearing:
+    """A bearing whose rows come from a ``[bearing.geometry]`` table (catalogue dimensions and materials)."""
+    if "preset" in table:
+        raise ValueError(f"{where}.geometry cannot be combined with {where}.preset; use one or the other")
+    clash = [k for k in _GEOMETRY_DERIVED if k in table]
+    if clash:
+        raise ValueError(f"{where}: {clash} are derived from [{where}.geometry]; remove them from [{where}] "
+                         "(or drop the geometry table and give the model parameters directly)")
+    geometry = geometry_from_table(table.pop("geometry"), f"{where}.geometry")
+    name = str(table.pop("name", ""))
+    row = {**geometry.row_keywords(), **{k: table[k] for k in ("first_ball_angle",) if k in table}}
+    preload = table.get("axial_preload", 0.0)
+    n_given = len(preload) if isinstance(preload, (list, tuple)) else 1
+    if geometry.diametral_clearance > 0 and any(_per_row(f"{where}.axial_preload", preload, n_given)):
+        raise ValueError(f"{where}.axial_preload must be 0 when {where}.geometry.diametral_clearance > 0 "
+                         f"(preload needs zero clearance), got {preload!r}")
+    if "rows" in table:
+        rows = table.pop("rows")
+        if not isinstance(rows, list) or not rows:
+            raise ValueError(f"{where}.rows must be a non-empty array of tables")
+        if geometry.row_spacing is not None:
+            raise ValueError(f"{where}.geometry.row_spacing is not used with rows; give each row its axial_offset")
+        preloads = _per_row(f"{where}.axial_preload", preload, len(rows))
+        built = []
+        for i, r in enumerate(rows):
+            if not isinstance(r, dict):
+                raise ValueError(f"{where}.rows[{i}] must be a table")
+            unknown = sorted(set(r) - set(_GEOMETRY_ROW_KEYS))
+            if unknown:
+                raise ValueError(f"{where}.rows[{i}]: key(s) {unknown} not allowed with [{where}.geometry]; "
+                                 f"allowed per row: {list(_GEOMETRY_ROW_KEYS)}")
+            built.append({**row, "axial_preload": preloads[i], **r})
+        try:
+            bearing = Bearing.from_rows(built, name=name)
+        except ValueError as err:
+            raise ValueError(_prefixed(where, err)) from None
+        return replace(bearing, geometry=geometry)
+    arrangement = table.pop("arrangement", "single")
+    if arrangement not in ARRANGEMENTS:
+        raise ValueError(f"{where}.arrangement must be one of {list(ARRANGEMENTS)}, got {arrangement!r}")
+    if arrangement != "single" and geometry.row_spacing is None:
+        raise ValueError(f"{where}.geometry.row_spacing (2e, mm, >= 0) is required for arrangement {arrangement!r}")
+    try:
+        if arrangement == "single":
+            row["axial_preload"] = _per_row(f"{where}.axial_preload", preload, 1)[0]
+            bearing = Bearing.single(name=name, **row)
+        else:
+            bearing = Bearing.double(arrangement, geometry.row_offset, axial_preload=preload, name=name, **row)
+    except ValueError as err:
+        raise ValueError(_prefixed(where, err)) from None
+    return replace(bearing, geometry=geometry)
 
 
 def _prefixed(where: str, err: ValueError) -> str:

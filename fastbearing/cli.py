@@ -1,4 +1,4 @@
-"""Command line: ``fastbearing solve ...``.
+"""Command line: ``fastbearing solve | bearing | loadmap | passage ...``.
 
 Bad input gives a one-line error on stderr and exit code 2, never a traceback.
 """
@@ -7,12 +7,14 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import sys
 
 import numpy as np
 
 from .api import DISPLACEMENT_NAMES, LOAD_NAMES, solve, stiffness
 from .bearing_file import load_bearing, preset_bearing, preset_names
+from .geometry import ball_contacts, load_centre_spread
 
 EXIT_USAGE = 2
 
@@ -66,7 +68,18 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--method", choices=["newton", "broyden"], default="newton",
                    help="solver for --load (default newton)")
     p.add_argument("--json", action="store_true", help="print one JSON object (q, f, K, status, converged, "
-                   "iterations, residual) on stdout")
+                   "iterations, residual; with --balls also balls) on stdout")
+    p.add_argument("--balls", action="store_true", help="also report every ball: azimuth, deflection, load Q, "
+                   "contact angle and, for a bearing with [bearing.geometry], the maximum Hertz pressure and "
+                   "contact-ellipse semi-axes at the inner and outer race")
+    b = sub.add_parser("bearing", help="derived model parameters of a bearing file (Kn, A0, R, rL, ...)",
+                       description=(
+                           "Print a bearing file's model parameters with units: Hertz constant Kn, groove-centre "
+                           "distance A0, inner groove-centre radius R, radial clearance rL, unloaded and free "
+                           "contact angles, load-centre spread E of double rows, and for a [bearing.geometry] "
+                           "table the catalogue inputs and both race contacts."))
+    b.add_argument("file", metavar="FILE.toml", help="a bearing file with a [bearing] table")
+    b.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     m = sub.add_parser("loadmap", help="Kb over a grid or table of loads or displacements, to HDF5",
                        description=(
                            "Compute a load map: Kb (and q, f, status, load distribution) at every case of the "
@@ -121,6 +134,112 @@ def _bearing(args):
     return preset_bearing(args.preset, args.arrangement)
 
 
+def _bearing_report(bearing) -> dict:
+    """Derived parameters of every row (lengths mm, angles deg and rad, Kn N/mm^n) and of the geometry."""
+    rows = []
+    for r in bearing.rows:
+        a0 = math.radians(r.contact_angle)
+        # pure axial load takes up the clearance: cos(a_f) = cos(a0) - rL/A0 (deep groove: 1 - Pd/(2 A0))
+        c = math.cos(a0) - r.radial_clearance / r.groove_center_distance
+        af = math.acos(c) if -1.0 <= c <= 1.0 else float("nan")
+        rows.append({"axial_offset": r.axial_offset, "contact_direction": r.contact_direction, "n_balls": r.n_balls,
+                     "hertz_constant": r.hertz_constant, "exponent": r.exponent,
+                     "groove_center_distance": r.groove_center_distance, "pitch_radius": r.pitch_radius,
+                     "radial_clearance": r.radial_clearance, "contact_angle_deg": r.contact_angle,
+                     "free_contact_angle": af, "free_contact_angle_deg": math.degrees(af),
+                     "axial_preload": r.axial_preload})
+    out = {"name": bearing.name, "arrangement": bearing.arrangement, "rows": rows}
+    if bearing.arrangement in ("DB", "DF", "DT"):
+        r = bearing.rows[1]
+        out["load_centre_spread"] = load_centre_spread(bearing.arrangement, r.axial_offset, r.pitch_radius,
+                                                       math.radians(r.contact_angle))
+    g = bearing.geometry
+    if g is not None:
+        inner, outer = g.contacts()
+        out["geometry"] = {
+            "n_balls": g.n_balls, "ball_diameter": g.ball_diameter, "pitch_diameter": g.pitch_diameter,
+            "inner_groove_ratio": g.inner_groove_ratio, "outer_groove_ratio": g.outer_groove_ratio,
+            "contact_angle_deg": g.contact_angle, "diametral_clearance": g.diametral_clearance,
+            "row_spacing": g.row_spacing, "ellipticity_method": g.ellipticity,
+            "ball_material": vars(g.ball_material), "ring_material": vars(g.ring_material),
+            "reduced_modulus": g.reduced_modulus,
+            "contacts": {side: {"hertz_constant": c.constant, "ellipticity": c.ellipticity,
+                                "curvature_sum": c.curvature_sum, "curvature_ratio": max(c.curvature_x, c.curvature_y)
+                                / min(c.curvature_x, c.curvature_y)}
+                         for side, c in (("inner", inner), ("outer", outer))}}
+    return out
+
+
+def _bearing_text(rep: dict, bearing) -> str:
+    lines = [f"{rep['name'] or 'bearing'}: {rep['arrangement']}, {len(rep['rows'])} row(s)"]
+    g = rep.get("geometry")
+    if g is not None:
+        geo = bearing.geometry
+        lines += ["catalogue geometry:",
+                  f"  balls per row        Z  = {g['n_balls']}",
+                  f"  ball diameter        D  = {g['ball_diameter']:g} mm",
+                  f"  pitch diameter       dm = {g['pitch_diameter']:g} mm",
+                  f"  groove ratios        fi = {g['inner_groove_ratio']:g}, fo = {g['outer_groove_ratio']:g}",
+                  f"  contact angle        a0 = {g['contact_angle_deg']:g} deg",
+                  f"  diametral clearance  Pd = {g['diametral_clearance']:g} mm"]
+        if g["row_spacing"] is not None:
+            lines.append(f"  row spacing          2e = {g['row_spacing']:g} mm")
+        for body in ("ball", "ring"):
+            m = g[f"{body}_material"]
+            lines.append(f"  {body} material        {m['name']}: E = {m['youngs_modulus']:g} N/mm^2, "
+                         f"nu = {m['poisson_ratio']:g}")
+        lines.append(f"  reduced modulus      E' = {g['reduced_modulus']:.6g} N/mm^2; ellipticity: {geo.ellipticity}")
+        for side in ("inner", "outer"):
+            c = g["contacts"][side]
+            lines.append(f"  {side} contact        K = {c['hertz_constant']:.6g} N/mm^1.5, k = a/b = "
+                         f"{c['ellipticity']:.4g}, Ry/Rx = {c['curvature_ratio']:.4g}, "
+                         f"sum rho = {c['curvature_sum']:.5g} 1/mm")
+    lines.append("model parameters:")
+    for i, r in enumerate(rep["rows"]):
+        lines += [f"  row {i}: z = {r['axial_offset']:g} mm, contact direction {r['contact_direction']:+d}, "
+                  f"Z = {r['n_balls']}",
+                  f"    Hertz constant             Kn = {r['hertz_constant']:.6g} N/mm^{r['exponent']:g}",
+                  f"    groove-centre distance     A0 = {r['groove_center_distance']:.6g} mm",
+                  f"    inner groove-centre radius R  = {r['pitch_radius']:.6g} mm",
+                  f"    radial clearance           rL = {r['radial_clearance']:.6g} mm",
+                  f"    contact angle              a0 = {r['contact_angle_deg']:.6g} deg",
+                  f"    free contact angle         af = {r['free_contact_angle_deg']:.6g} deg "
+                  f"({r['free_contact_angle']:.6g} rad)"]
+        if r["axial_preload"]:
+            lines.append(f"    axial preload              d0 = {r['axial_preload']:.6g} mm")
+    if "load_centre_spread" in rep:
+        lines.append(f"load-centre spread ({rep['arrangement']}): E = 2(e + c2 R tan a0) = "
+                     f"{rep['load_centre_spread']:.6g} mm")
+    return "\n".join(lines)
+
+
+def _bearing_command(args) -> int:
+    bearing = load_bearing(args.file)
+    rep = _bearing_report(bearing)
+    print(json.dumps(rep) if args.json else _bearing_text(rep, bearing))
+    return 0
+
+
+def _balls_text(records: list[dict]) -> str:
+    contacts = records and "inner_max_pressure" in records[0]
+    head = f"{'row':>3s} {'ball':>4s} {'psi(deg)':>9s} {'delta(mm)':>11s} {'Q(N)':>11s} {'alpha(deg)':>10s}"
+    if contacts:
+        head += (f" {'p_in(MPa)':>10s} {'a_in(mm)':>9s} {'b_in(mm)':>9s}"
+                 f" {'p_out(MPa)':>10s} {'a_out(mm)':>9s} {'b_out(mm)':>9s}")
+    lines = ["balls (psi azimuth, delta deflection, Q load, alpha loaded contact angle"
+             + ("; max Hertz pressure p (MPa = N/mm^2) and ellipse semi-axes a, b at the inner and outer race"
+                if contacts else
+                "; no [bearing.geometry]: no contact stresses") + "):", head]
+    for r in records:
+        line = (f"{r['row']:3d} {r['ball']:4d} {math.degrees(r['azimuth']):9.3f} {r['deflection']:11.5g} "
+                f"{r['load']:11.6g} {math.degrees(r['contact_angle']):10.4f}")
+        if contacts:
+            line += (f" {r['inner_max_pressure']:10.1f} {r['inner_semi_major']:9.4f} {r['inner_semi_minor']:9.4f}"
+                     f" {r['outer_max_pressure']:10.1f} {r['outer_semi_major']:9.4f} {r['outer_semi_minor']:9.4f}")
+        lines.append(line)
+    return "\n".join(lines)
+
+
 def _table(result: dict) -> str:
     labels = ("x", "y", "z", "tx", "ty")
     K = np.asarray(result["K"])
@@ -143,10 +262,14 @@ def _solve(args) -> int:
         f, K = stiffness(bearing, q)
         result = {"q": [float(v) for v in q], "f": f.tolist(), "K": K.tolist(), "status": "direct",
                   "converged": True, "iterations": 0, "residual": 0.0}
+    if args.balls:
+        result["balls"] = ball_contacts(bearing, result["q"]).to_records()
     if args.json:
         print(json.dumps(result))
     else:
         print(_table(result))
+        if args.balls:
+            print(_balls_text(result["balls"]))
     return 0 if result["converged"] else 1
 
 
@@ -154,7 +277,8 @@ def main(argv=None) -> int:
     parser = build_parser()
     try:
         args = parser.parse_args(argv)
-        return {"solve": _solve, "loadmap": _loadmap, "passage": _passage}[args.command](args)
+        return {"solve": _solve, "bearing": _bearing_command, "loadmap": _loadmap,
+                "passage": _passage}[args.command](args)
     except (_UsageError, ValueError) as err:
         print(f"fastbearing: error: {err}" if not str(err).startswith("fastbearing") else str(err),
               file=sys.stderr)
