@@ -221,7 +221,7 @@ def test_stiffness_many_matches_stiffness(rng):
         assert np.array_equal(f[i], f1) and np.array_equal(K[i], K1)
 
 
-from hypothesis import given, settings, strategies as hs  # noqa: E402
+from hypothesis import assume, given, settings, strategies as hs  # noqa: E402
 
 
 @settings(max_examples=150, deadline=None)
@@ -238,9 +238,11 @@ def test_kernel_matches_printed_equations_property(q, tilt, angle, arrangement):
     if not K_ref.any():
         assert not K.any()
         return
-    # delta = A - A0 cancels: it is known only to ~eps*A0/delta, and Kb ~ sqrt(delta)
+    # delta = A - A0 cancels: it is known only to ~eps*A0/delta in any evaluation order,
+    # so balls touching by picometres carry no reliable digits; skip those examples
     Q, _ = fb.ball_loads(bearing, qv)
-    delta = (Q.max() / 395000.0) ** (2 / 3)
-    tol = 1e-9 + 1e-14 * 0.52 / delta
+    delta = (Q[Q > 0] / 395000.0) ** (2 / 3)
+    assume(delta.min() > 1e-8)  # mm
+    tol = 1e-9 + 1e-14 * 0.52 / delta.min()
     np.testing.assert_allclose(f, f_ref, rtol=tol, atol=tol * np.abs(f_ref).max())
     assert scaled_error(K, K_ref) < tol
