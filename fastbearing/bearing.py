@@ -25,8 +25,8 @@ ARRANGEMENTS = ("single", "DB", "DF", "DT")
 _DOUBLE_ROW_DIRECTIONS = {"DB": (1, -1), "DF": (-1, 1), "DT": (1, 1)}
 
 # Rows of the per-ball table the kernel reads (column j is ball j; rows are quantities).
-COS_PSI, SIN_PSI, AXIAL_OFFSET, PITCH_RADIUS, UR0, UZ0, A0, KN, EXPONENT, ROW, DIRECTION = range(11)
-N_BALL_COLUMNS = 11
+COS_PSI, SIN_PSI, AXIAL_OFFSET, PITCH_RADIUS, UR0, UZ0, A0, KN, EXPONENT, ROW, DIRECTION, GAP2 = range(12)
+N_BALL_COLUMNS = 12
 
 
 def _check_finite(name: str, value) -> float:
@@ -210,7 +210,7 @@ class Bearing:
         return replace(self, rows=tuple(replace(r, **changes) for r in self.rows))
 
     def ball_table(self, cage_angle: float = 0.0) -> np.ndarray:
-        """Per-ball float64 table (11, n_balls), one row per quantity (see the column constants).
+        """Per-ball float64 table (12, n_balls), one row per quantity (see the column constants).
 
         Column-major so the kernel reads each quantity contiguously and can
         vectorise over balls. ``cage_angle`` (rad) rotates every ball of every
@@ -257,6 +257,11 @@ class Bearing:
             table[EXPONENT, sl] = r.exponent
             table[ROW, sl] = i
             table[DIRECTION, sl] = r.contact_direction
+            # ur0^2 + uz0^2 - A0^2 in closed form (exactly 0 without clearance and preload),
+            # so the kernel gets A^2 - A0^2 without cancellation
+            rl, d0 = r.radial_clearance, r.axial_preload
+            table[GAP2, sl] = (-2.0 * r.groove_center_distance * rl * math.cos(a0) + rl * rl
+                               + 2.0 * r.groove_center_distance * d0 * math.sin(a0) + d0 * d0)
             k += r.n_balls
         return table
 

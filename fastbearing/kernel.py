@@ -45,7 +45,8 @@ def ball_loop(q, balls, f, K, ball_load, contact_angle):
     """Fill f (5) and, unless ``K`` is None, Kb (5x5) in place at displacement q.
 
     Per ball (MODEL.md): radial and axial approach of the groove centres, the
-    loaded distance A = sqrt(ur^2 + uz^2), Hertz deflection delta = A - A0,
+    loaded distance A = sqrt(ur^2 + uz^2), Hertz deflection delta = A - A0
+    (evaluated as (A^2 - A0^2)/(A + A0), free of cancellation),
     ball load Q = Kn*delta^n. The ball adds Q*(ur*a + uz*b)/A to f and
     J^T H J to Kb, with J = [a; b] = d(ur, uz)/dq and the 2x2 contact
     Hessian H = (Q/A)(I - h h^T) + Q' h h^T, h = (ur, uz)/A, Q' = dQ/d(delta).
@@ -56,7 +57,7 @@ def ball_loop(q, balls, f, K, ball_load, contact_angle):
     q : (5,) float64
         (dx, dy, dz, bx, by) in mm and rad at the bearing centre.
     balls : tuple (table, exponent)
-        ``table`` (11, n_balls) float64, column-major per-ball data from
+        ``table`` (12, n_balls) float64, column-major per-ball data from
         :meth:`fastbearing.Bearing.ball_set`; ``exponent`` None (all balls
         n = 1.5) or (n_balls,) float64 per-ball exponents.
     f : (5,) float64, out
@@ -87,6 +88,7 @@ def ball_loop(q, balls, f, K, ball_load, contact_angle):
     a0 = table[6]
     kn = table[7]
     direction = table[10]
+    gap = table[11]
     dx = q[0]
     dy = q[1]
     dz = q[2]
@@ -105,10 +107,17 @@ def ball_loop(q, balls, f, K, ball_load, contact_angle):
         s = sin_psi[j]
         z = offset[j]
         R = radius[j]
-        ur = (dx + z * by) * c + (dy - z * bx) * s + ur0[j]
-        uz = dz + R * (bx * s - by * c) + uz0[j]
+        dr = (dx + z * by) * c + (dy - z * bx) * s  # radial approach
+        dzb = dz + R * (bx * s - by * c)  # axial approach
+        ur = dr + ur0[j]
+        uz = dzb + uz0[j]
         A = math.sqrt(ur * ur + uz * uz)
-        delta = max(A - a0[j], 0.0)
+        # delta = A - A0 written as (A^2 - A0^2)/(A + A0): no cancellation for
+        # light contacts, and exactly 0 at q = 0 without clearance and preload
+        gap2 = gap[j] + dr * (2.0 * ur0[j] + dr) + dzb * (2.0 * uz0[j] + dzb)
+        A_plus = A + a0[j]
+        inv = 1.0 / max(A * A_plus, 1e-300)  # one division gives both 1/A and 1/(A + A0)
+        delta = max(gap2 * (A * inv), 0.0)
         Q, dQ = contact_law(delta, kn[j], exponent, j)
         loaded = delta > 0.0
         n_loaded += loaded
@@ -117,7 +126,7 @@ def ball_loop(q, balls, f, K, ball_load, contact_angle):
             ball_load[j] = Q
             contact_angle[j] = math.atan2(direction[j] * uz, ur)
         total += Q
-        inv_a = 1.0 / max(A, 1e-300)
+        inv_a = A_plus * inv
         g = Q * inv_a
         fr = g * ur
         fz = g * uz

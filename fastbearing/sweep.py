@@ -126,7 +126,7 @@ def passage_sweep(inputs, given_load, tables, exponent, q, f, K, status, iterati
                   min_angle, max_angle, ball_row, method, rtol, max_iter, length_scale, force_floor, max_step):
     """Ball-passage tables, in place: every operating point at every cage position.
 
-    ``tables`` (P, 11, n_balls) holds the ball table at each of P cage
+    ``tables`` (P, 12, n_balls) holds the ball table at each of P cage
     angles (``exponent`` as in a ball set); outputs are (N, P, ...). Along
     the positions of one point each solve starts from the previous
     position's converged q.

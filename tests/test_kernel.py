@@ -235,12 +235,15 @@ def test_kernel_matches_printed_equations_property(q, tilt, angle, arrangement):
     qv = np.array(q + tilt)
     f, K = fb.stiffness(bearing, qv)
     f_ref, K_ref = naive_load_stiffness(qv, rows)
-    if not K_ref.any():
-        assert not K.any()
-        return
-    # delta = A - A0 cancels: it is known only to ~eps*A0/delta in any evaluation order,
-    # so balls touching by picometres carry no reliable digits; skip those examples
     Q, _ = fb.ball_loads(bearing, qv)
+    if not (Q > 0).any():
+        # no measurable contact (a subnormal approach may leave Kb ~ 1e-149); the
+        # printed form's A - A0 may still show an ulp of overlap
+        assert np.abs(f).max() < 1e-6 and np.abs(K).max() < 1e-3
+        assert np.abs(f_ref).max() < 1e-6
+        return
+    # the printed form's delta = A - A0 cancels and has only ~eps*A0/delta relative
+    # accuracy: balls touching by picometres carry no reliable digits there
     delta = (Q[Q > 0] / 395000.0) ** (2 / 3)
     assume(delta.min() > 1e-8)  # mm
     tol = 1e-9 + 1e-14 * 0.52 / delta.min()

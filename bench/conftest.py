@@ -1,0 +1,27 @@
+"""Shared benchmark inputs: the paper's bearing and a fixed, seeded set of random combined loads."""
+
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+sys.path.insert(0, str(Path(__file__).parent))
+
+import fastbearing as fb  # noqa: E402
+
+BEARING = fb.Bearing.preset("gunduz2013", "DB")
+TABLE3 = np.array([1000.0, 0.0, 0.0, 0.0, -74000.0])
+TABLE4 = np.array([1000.0, 0.0, 3000.0, 0.0, -74000.0])
+
+
+def random_loads(n, seed=0):
+    """Fx, Fy in +-3 kN, Fz in +-8 kN, Mx, My in +-100 N*m (N, N*mm)."""
+    rng = np.random.default_rng(seed)
+    return np.column_stack([rng.uniform(lo, hi, n) for lo, hi in
+                            ((-3000, 3000), (-3000, 3000), (-8000, 8000), (-1e5, 1e5), (-1e5, 1e5))])
+
+
+@pytest.fixture(scope="session")
+def bearing():
+    return BEARING

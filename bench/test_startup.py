@@ -1,0 +1,31 @@
+"""Start-up: a whole `python -c "import fastbearing; <one solve>"` process, cold and warm.
+
+Cold: numba's cache is redirected to an empty folder (NUMBA_CACHE_DIR), so
+every kernel the solve needs is compiled. Warm: the same with the cache filled.
+"""
+
+import os
+import subprocess
+import sys
+
+import pytest
+
+SCRIPT = ("import fastbearing as fb; "
+          "r = fb.solve(fb.Bearing.preset('gunduz2013', 'DB'), [1000.0, 0.0, 3000.0, 0.0, -74000.0]); "
+          "assert r.converged")
+
+
+@pytest.mark.benchmark(group="start-up to the first solve, whole process")
+def test_startup(benchmark, tmp_path):
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "numba-cache")}
+
+    def run():
+        subprocess.run([sys.executable, "-c", SCRIPT], env=env, check=True, timeout=300)
+
+    import time
+    t = time.perf_counter()
+    run()  # cold: empty cache
+    cold = time.perf_counter() - t
+    benchmark.pedantic(run, rounds=3)  # warm
+    if not benchmark.disabled:  # --benchmark-disable: a smoke run, no figures
+        benchmark.extra_info.update(cold_s=cold, warm_s=benchmark.stats.stats.median)
