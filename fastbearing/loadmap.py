@@ -236,37 +236,43 @@ def loadmap(config, output=None, *, threads=None, resume=False, overwrite=False,
     opts = solver_settings(cfg.bearing, cfg.method, cfg.rtol, cfg.max_iter)
     balls = cfg.bearing.ball_set()
     ball_row = balls[0][ROW].astype(np.int64)
-    buffers = _Buffers(max(b.size for b in blocks), cfg.bearing.n_rows)
+    size = max(b.size for b in blocks)
     given_load = cases.given == "load"
     pf = storage.PartFile(part)
     started = time.perf_counter()
     computed = 0
+    done = pf.done_mask()
+    bar = _progress(cases.n_cases, sum(b.size for b in blocks if done[b.index]), progress)
+    # two buffer sets: one being computed, one being written
+    writer = storage.BlockWriter(pf, [_Buffers(size, cfg.bearing.n_rows) for _ in range(2)],
+                                 on_written=(lambda b: bar.update(b.size)) if bar is not None else None)
     try:
-        done = pf.done_mask()
-        bar = _progress(cases.n_cases, sum(b.size for b in blocks if done[b.index]), progress)
         with num_threads(threads), _Interrupt() as interrupt:
             for block in blocks:
                 if done[block.index]:
                     continue
-                res = buffers.view(block.size)
+                buf = writer.buffer()
+                res = buf.view(block.size)
                 map_sweep(cases.inputs(block.start, block.stop), given_load, cases.line_length, res["q"], res["f"],
                           res["K"], res["status"], res["iterations"], res["residual"], res["max_ball_load"],
                           res["loaded_balls"], res["min_contact_angle"], res["max_contact_angle"], balls, ball_row,
                           opts["method"], opts["rtol"], opts["max_iter"], opts["length_scale"],
                           opts["force_floor"], opts["max_step"])
-                pf.write(block.slab, res)
-                pf.mark_done(block.index)
+                writer.submit(block, res, buf)
                 computed += block.size
-                if bar is not None:
-                    bar.update(block.size)
                 if interrupt.requested:
                     raise KeyboardInterrupt
+            writer.close()
         if bar is not None:
             bar.close()
     except KeyboardInterrupt:
+        writer.close()  # finish the block in flight: it is kept for --resume
         pf.close()
         print(f"\nfastbearing: interrupted; finished blocks are kept in {part}; continue with --resume",
               file=sys.stderr)
+        raise
+    except BaseException:
+        pf.close()
         raise
     counts = _status_counts(pf)
     pf.close()

@@ -17,6 +17,8 @@ asked), so a file under the final name is always complete.
 from __future__ import annotations
 
 import os
+import queue
+import threading
 from dataclasses import dataclass, field
 from datetime import datetime, timezone
 from pathlib import Path
@@ -197,6 +199,66 @@ class PartFile:
 
     def close(self) -> None:
         self.fh.close()
+
+
+class BlockWriter:
+    """Writes finished blocks on a background thread while the next block computes.
+
+    The kernels release the GIL, so computing block k+1 overlaps writing
+    block k (the disk is as slow as the compute here). Each block is written,
+    flushed, then marked done, in order, exactly as in the serial path. The
+    caller owns a fixed set of buffers and gets one back with
+    :meth:`buffer` once it has been written out: memory stays bounded.
+    """
+
+    def __init__(self, part_file: PartFile, buffers: list, on_written=None):
+        self.part_file = part_file
+        self.on_written = on_written
+        self.error: BaseException | None = None
+        self._free: queue.Queue = queue.Queue()
+        for b in buffers:
+            self._free.put(b)
+        self._todo: queue.Queue = queue.Queue()
+        self._thread = threading.Thread(target=self._run, name="fastbearing-writer", daemon=True)
+        self._thread.start()
+
+    def buffer(self):
+        """A buffer that is free to fill (waits while all are being written)."""
+        buf = self._free.get()
+        self._raise()
+        return buf
+
+    def submit(self, block, arrays: dict, buf) -> None:
+        """Queue ``arrays`` (views into ``buf``) to be written as ``block``."""
+        self._raise()
+        self._todo.put((block, arrays, buf))
+
+    def close(self) -> None:
+        """Wait until every submitted block is written and marked done."""
+        self._todo.put(None)
+        self._thread.join()
+        self._raise()
+
+    def _run(self):
+        while True:
+            item = self._todo.get()
+            if item is None:
+                return
+            block, arrays, buf = item
+            try:
+                if self.error is None:
+                    self.part_file.write(block.slab, arrays)
+                    self.part_file.mark_done(block.index)
+                    if self.on_written is not None:
+                        self.on_written(block)
+            except BaseException as err:  # handed to the caller's thread
+                self.error = err
+            finally:
+                self._free.put(buf)
+
+    def _raise(self):
+        if self.error is not None:
+            raise self.error
 
 
 def _slab_shape(shape: tuple[int, ...], slab: tuple) -> tuple[int, ...]:

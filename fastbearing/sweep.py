@@ -10,6 +10,7 @@ from numba import njit, prange
 
 from .config import CACHE, ERROR_MODEL
 from .kernel import ball_loop
+from .linalg import cholesky_solve
 from .solver import WORK_ROWS, solve_case
 
 
@@ -89,6 +90,30 @@ def operating_point(given_load, inputs, warm, q, f, K, balls, method, rtol, max_
     return 0, 0, 0.0
 
 
+@njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True)
+def tangent_predictor(given_load, target, q_prev, f_prev, K_prev, q, scratch):
+    """Start for the next case of a line: q_prev + Kb^-1 (f_target - f_prev).
+
+    The neighbour's Kb is already computed, so this Euler step along the line
+    costs one 5x5 solve and no kernel evaluation; it is second-order accurate
+    in the load step. Falls back to q_prev where Kb is singular.
+    """
+    for d in range(5):
+        q[d] = q_prev[d]
+    if not given_load:
+        return
+    rhs = scratch[0]
+    step = scratch[1]
+    for d in range(5):
+        rhs[d] = target[d] - f_prev[d]
+    if cholesky_solve(K_prev, 0.0, rhs, step, scratch[2:7]):
+        for d in range(5):
+            if not np.isfinite(step[d]):
+                return
+        for d in range(5):
+            q[d] += step[d]
+
+
 @njit(parallel=True, cache=CACHE, error_model=ERROR_MODEL, nogil=True)
 def map_sweep(inputs, given_load, line_length, q, f, K, status, iterations, residual, max_load, n_loaded,
               min_angle, max_angle, balls, ball_row, method, rtol, max_iter, length_scale, force_floor, max_step):
@@ -105,6 +130,7 @@ def map_sweep(inputs, given_load, line_length, q, f, K, status, iterations, resi
     n_balls = balls[0].shape[1]
     for g in prange(groups):
         work = np.empty((WORK_ROWS, 5))
+        predictor = np.empty((7, 5))
         ball_load = np.empty(n_balls)
         contact_angle = np.empty(n_balls)
         for line in range(g, n_lines, groups):
@@ -112,8 +138,7 @@ def map_sweep(inputs, given_load, line_length, q, f, K, status, iterations, resi
                 i = line * line_length + k
                 warm = k > 0 and (status[i - 1] & 15) == 0
                 if warm:
-                    for d in range(5):
-                        q[i, d] = q[i - 1, d]
+                    tangent_predictor(given_load, inputs[i], q[i - 1], f[i - 1], K[i - 1], q[i], predictor)
                 status[i], iterations[i], residual[i] = operating_point(
                     given_load, inputs[i], warm, q[i], f[i], K[i], balls, method, rtol, max_iter, length_scale,
                     force_floor, max_step, work, ball_load, contact_angle)
