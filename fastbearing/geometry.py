@@ -48,8 +48,6 @@ import math
 from dataclasses import dataclass, fields, replace
 
 import numpy as np
-from scipy.optimize import brentq
-from scipy.special import ellipe, ellipk, ellipkm1
 
 from .bearing import Bearing, _check_finite
 
@@ -106,6 +104,8 @@ def reduced_modulus(ball: Material, ring: Material) -> float:
 # -- ellipticity -----------------------------------------------------------------
 def _alpha_of_t(t: float) -> float:
     """Curvature ratio Ry/Rx of ellipticity k = exp(t) (exact Hertz relation)."""
+    from scipy.special import ellipe, ellipkm1  # scipy loads only when a geometry is used (start-up time)
+
     p = math.exp(-2.0 * t)          # 1 - m = 1/k^2; ellipkm1 keeps K accurate as m -> 1
     K, E = float(ellipkm1(p)), float(ellipe(1.0 - p))
     return (E / p - K) / (K - E)
@@ -137,6 +137,9 @@ def ellipticity(ratio: float, method: str = "exact") -> tuple[float, float, floa
         return 1.0339 * ratio ** 0.6360, 1.5277 + 0.6023 * math.log(ratio), 1.0003 + 0.5968 / ratio
     if method != "exact":
         raise ValueError(f"ellipticity method must be one of {list(ELLIPTICITY_METHODS)}, got {method!r}")
+    from scipy.optimize import brentq  # scipy loads only when a geometry is used (start-up time)
+    from scipy.special import ellipe, ellipk, ellipkm1
+
     excess = ratio - 1.0
     if excess < 1e-6:
         # near a circle alpha_r - 1 = 1.5 ln k + O(ln^2 k): k = alpha_r^(2/3) to ~1e-12
