@@ -1,0 +1,272 @@
+"""Rigid shafts on several bearings: equilibrium, system stiffness, natural frequencies.
+
+A rigid shaft moves by Q = (dx, dy, dz, bx, by) at a reference point z_ref
+(mm, rad). A point at axial position z moves by T(d) Q with d = z - z_ref
+and T(d) = [dx + d*by, dy - d*bx, dz, bx, by]: the same rigid-body map that
+makes a double row the sum of its rows (MODEL.md). So a shaft on several
+bearings *is* one bearing whose rows are all the bearings' rows moved by
+their bearing's d; the one kernel and solver give Q and the system
+stiffness K_system = sum_i T_i^T K_i T_i at z_ref directly. Units: N, mm,
+rad; masses in kg and inertias in kg*mm^2 (converted to t and t*mm^2 for
+the N-mm-s system).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+from pathlib import Path
+
+import numpy as np
+
+from .api import SolveResult, solve, stiffness
+from .bearing import Bearing
+from .bearing_file import bearing_from_table, load_bearing, read_toml
+
+
+def transfer(d: float) -> np.ndarray:
+    """T(d): displacement at the reference -> displacement of a point d mm further along z (5x5)."""
+    T = np.eye(5)
+    T[0, 4] = d
+    T[1, 3] = -d
+    return T
+
+
+def load_at_reference(force, moment, d: float) -> np.ndarray:
+    """A force (Fx, Fy, Fz) in N and moment (Mx, My) in N*mm applied d mm from the reference, as a
+    load (Fx, Fy, Fz, Mx, My) at the reference: T(d)^T f (Fx at d < 0 gives My = Fx*d < 0)."""
+    f = np.array([*force, *moment], dtype=float)
+    return transfer(d).T @ f
+
+
+@dataclass(frozen=True)
+class MountedBearing:
+    """A bearing on the shaft: its centre at axial ``position`` (mm)."""
+
+    position: float
+    bearing: Bearing
+    name: str = ""
+
+
+@dataclass(frozen=True)
+class PointLoad:
+    """External force (N) and moment (N*mm) on the shaft at axial ``position`` (mm)."""
+
+    position: float
+    force: tuple[float, float, float]
+    moment: tuple[float, float] = (0.0, 0.0)
+
+
+@dataclass(frozen=True)
+class Inertia:
+    """Rigid-shaft mass properties: mass (kg), transverse inertias about x and y through the centre of
+    mass (kg*mm^2), centre of mass at axial position ``center`` (mm)."""
+
+    mass: float
+    inertia_x: float
+    inertia_y: float
+    center: float
+
+    def matrix(self, reference: float) -> np.ndarray:
+        """5x5 mass matrix at the reference point in t and t*mm^2 (consistent with N, mm, s)."""
+        M = np.diag([self.mass, self.mass, self.mass, self.inertia_x, self.inertia_y]) * 1e-3
+        T = transfer(self.center - reference)
+        return T.T @ M @ T
+
+
+@dataclass(frozen=True)
+class Shaft:
+    """A rigid shaft with bearings, external loads and (optionally) mass properties."""
+
+    reference: float
+    bearings: tuple[MountedBearing, ...]
+    loads: tuple[PointLoad, ...] = ()
+    inertia: Inertia | None = None
+
+    def __post_init__(self):
+        if not self.bearings:
+            raise ValueError("shaft.bearings must list at least one bearing")
+        if not math.isfinite(self.reference):
+            raise ValueError(f"shaft.reference must be finite (mm), got {self.reference!r}")
+
+    def as_bearing(self) -> Bearing:
+        """All rows of all bearings, moved to their axial positions relative to the reference."""
+        rows = []
+        for mb in self.bearings:
+            d = mb.position - self.reference
+            rows += [replace(r, axial_offset=r.axial_offset + d) for r in mb.bearing.rows]
+        return Bearing.from_rows(rows, name="shaft")
+
+    def external_load(self) -> np.ndarray:
+        """Sum of the external loads at the reference (N, N*mm)."""
+        total = np.zeros(5)
+        for p in self.loads:
+            total += load_at_reference(p.force, p.moment, p.position - self.reference)
+        return total
+
+
+@dataclass(frozen=True)
+class BearingState:
+    """One bearing at the shaft's solution: local displacement, reaction and Kb about its centre."""
+
+    position: float
+    q: np.ndarray
+    reaction: np.ndarray
+    K: np.ndarray
+
+
+@dataclass(frozen=True)
+class ShaftResult:
+    """Equilibrium of a shaft: Q and K_system at the reference, each bearing's state."""
+
+    solution: SolveResult
+    K_system: np.ndarray
+    bearings: tuple[BearingState, ...]
+    reference: float
+
+    @property
+    def q(self) -> np.ndarray:
+        return self.solution.q
+
+    def to_dict(self) -> dict:
+        """JSON-ready: q, K_system, status, converged and per bearing position, reaction, q, K."""
+        return {"reference": self.reference, "q": self.q.tolist(), "K_system": self.K_system.tolist(),
+                "status": self.solution.status_name, "converged": self.solution.converged,
+                "bearings": [{"position": b.position, "reaction": b.reaction.tolist(), "q": b.q.tolist(),
+                              "K": b.K.tolist()} for b in self.bearings]}
+
+
+def solve_shaft(shaft: Shaft, method: str = "newton") -> ShaftResult:
+    """Statically indeterminate equilibrium of the rigid shaft under its external loads.
+
+    The reaction of each bearing is the load (Fx, Fy, Fz, Mx, My) the shaft
+    puts on its inner ring, about the bearing's centre; the reactions,
+    carried to the reference, add up to the external load.
+    """
+    combined = shaft.as_bearing()
+    result = solve(combined, shaft.external_load(), method=method)
+    states = []
+    for mb in shaft.bearings:
+        q_local = transfer(mb.position - shaft.reference) @ result.q
+        f, K = stiffness(mb.bearing, q_local)
+        states.append(BearingState(mb.position, q_local, f, K))
+    return ShaftResult(result, result.K, tuple(states), shaft.reference)
+
+
+def stiffness_at(result: ShaftResult, position: float) -> np.ndarray:
+    """The system stiffness seen at another axial position (mm): T^-T K T^-1."""
+    T_inv = transfer(-(position - result.reference))
+    return T_inv.T @ result.K_system @ T_inv
+
+
+@dataclass(frozen=True)
+class Modes:
+    """Natural frequencies (Hz, ascending) and mass-normalised mode shapes (columns, at the reference)."""
+
+    frequencies: np.ndarray
+    shapes: np.ndarray
+    diagonal_only: bool
+
+
+def natural_frequencies(K: np.ndarray, M: np.ndarray, diagonal_only: bool = False) -> Modes:
+    """Undamped natural frequencies of the rigid shaft: K phi = omega^2 M phi (scipy.linalg.eigh).
+
+    K in N/mm, N*mm/rad, N/rad and M in t, t*mm^2 give omega in rad/s.
+    ``diagonal_only`` keeps only Kb's diagonal, to show what the coupling
+    terms change. Polar inertia and gyroscopic terms are not included.
+    """
+    from scipy.linalg import eigh
+
+    K = np.diag(np.diag(K)) if diagonal_only else np.asarray(K)
+    w2, shapes = eigh(K, M)
+    w2 = np.clip(w2, 0.0, None)  # a rigid-body direction the bearings do not hold gives 0 Hz
+    return Modes(np.sqrt(w2) / (2 * math.pi), shapes, diagonal_only)
+
+
+# -- config files -------------------------------------------------------------------
+
+_SHAFT_KEYS = {"reference", "bearings", "loads", "mass"}
+_BEARING_KEYS = {"position", "bearing", "mirrored", "name"}
+_LOAD_KEYS = {"position", "force", "moment"}
+_MASS_KEYS = {"mass", "inertia_x", "inertia_y", "center"}
+
+
+def _number(where: str, value) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        raise ValueError(f"{where} must be a finite number, got {value!r}")
+    return float(value)
+
+
+def _vector(where: str, value, n: int) -> tuple[float, ...]:
+    if not isinstance(value, list) or len(value) != n:
+        raise ValueError(f"{where} must be a list of {n} numbers, got {value!r}")
+    return tuple(_number(f"{where}[{i}]", v) for i, v in enumerate(value))
+
+
+def mirrored(bearing: Bearing) -> Bearing:
+    """The same bearing mounted the other way round: axial offsets and contact directions flip."""
+    return replace(bearing, rows=tuple(replace(r, axial_offset=-r.axial_offset,
+                                               contact_direction=-r.contact_direction) for r in bearing.rows))
+
+
+def read_shaft(config) -> Shaft:
+    """A shaft from a TOML file (or parsed dict) with a ``[shaft]`` table; bearing files are found
+    relative to the config. ValueError names the offending field."""
+    base = None
+    if not isinstance(config, dict):
+        base = Path(config).parent
+        config = read_toml(config)
+    unknown = sorted(set(config) - {"shaft"})
+    if unknown or "shaft" not in config:
+        raise ValueError(f"a shaft config holds one [shaft] table; unknown {unknown}" if unknown
+                         else "missing the [shaft] table")
+    spec = config["shaft"]
+    unknown = sorted(set(spec) - _SHAFT_KEYS)
+    if unknown:
+        raise ValueError(f"shaft: unknown key(s) {unknown}; allowed: {sorted(_SHAFT_KEYS)}")
+    reference = _number("shaft.reference", spec.get("reference", 0.0))
+    bearings = []
+    for i, b in enumerate(spec.get("bearings", [])):
+        where = f"shaft.bearings[{i}]"
+        unknown = sorted(set(b) - _BEARING_KEYS)
+        if unknown:
+            raise ValueError(f"{where}: unknown key(s) {unknown}; allowed: {sorted(_BEARING_KEYS)}")
+        if "position" not in b or "bearing" not in b:
+            raise ValueError(f"{where} needs position (mm) and bearing (a file or an inline table)")
+        source = b["bearing"]
+        if isinstance(source, str):
+            path = Path(source)
+            if base is not None and not path.is_absolute():
+                path = base / path
+            bearing = load_bearing(path)
+        elif isinstance(source, dict):
+            bearing = bearing_from_table(source, where=f"{where}.bearing")
+        else:
+            raise ValueError(f"{where}.bearing must be a file name or a table, got {source!r}")
+        if b.get("mirrored", False):
+            bearing = mirrored(bearing)
+        bearings.append(MountedBearing(_number(f"{where}.position", b["position"]), bearing, str(b.get("name", ""))))
+    loads = []
+    for i, p in enumerate(spec.get("loads", [])):
+        where = f"shaft.loads[{i}]"
+        unknown = sorted(set(p) - _LOAD_KEYS)
+        if unknown:
+            raise ValueError(f"{where}: unknown key(s) {unknown}; allowed: {sorted(_LOAD_KEYS)}")
+        loads.append(PointLoad(_number(f"{where}.position", p.get("position", 0.0)),
+                               _vector(f"{where}.force", p.get("force", [0.0, 0.0, 0.0]), 3),
+                               _vector(f"{where}.moment", p.get("moment", [0.0, 0.0]), 2)))
+    inertia = None
+    if "mass" in spec:
+        m = spec["mass"]
+        unknown = sorted(set(m) - _MASS_KEYS)
+        missing = sorted(_MASS_KEYS - set(m) - {"center"})
+        if unknown or missing:
+            raise ValueError(f"shaft.mass needs mass (kg), inertia_x, inertia_y (kg*mm^2) and optionally "
+                             f"center (mm); unknown {unknown}, missing {missing}")
+        values = {k: _number(f"shaft.mass.{k}", m[k]) for k in ("mass", "inertia_x", "inertia_y")}
+        for k, v in values.items():
+            if v <= 0:
+                raise ValueError(f"shaft.mass.{k} must be > 0, got {v!r}")
+        inertia = Inertia(values["mass"], values["inertia_x"], values["inertia_y"],
+                          _number("shaft.mass.center", m.get("center", reference)))
+    return Shaft(reference, tuple(bearings), tuple(loads), inertia)

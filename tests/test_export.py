@@ -1,0 +1,73 @@
+"""Exported stiffness matrices read back equal, in every format."""
+
+import json
+import warnings
+
+import numpy as np
+import pytest
+
+import fastbearing as fb
+from fastbearing import export as ex
+
+K = fb.solve(fb.Bearing.preset("gunduz2013", "DT"), [1000.0, 0.0, 3000.0, 0.0, -74000.0]).K
+
+
+def test_csv_round_trip(tmp_path):
+    Ks = np.stack([K, 2 * K])
+    path = ex.write_csv(tmp_path / "k.csv", Ks)
+    assert "units: N/mm" in path.read_text().splitlines()[0]
+    np.testing.assert_array_equal(ex.read_csv(path), Ks)
+
+
+def test_json_and_npz_round_trip(tmp_path):
+    body = json.loads(ex.write_json(tmp_path / "k.json", K, extra={"status": "converged"}).read_text())
+    assert body["dof"] == ["x", "y", "z", "tx", "ty"] and body["status"] == "converged"
+    np.testing.assert_array_equal(np.array(body["K"]), K)
+    data = np.load(ex.write_npz(tmp_path / "k.npz", K, q=np.arange(5.0)))
+    np.testing.assert_array_equal(data["K"], K)
+    assert list(data["dof"]) == ["x", "y", "z", "tx", "ty"] and "N/mm" in str(data["units"])
+
+
+def test_dmig_round_trip_one_grid(tmp_path):
+    path = ex.write_dmig(tmp_path / "k.dmig", K, grid=101, name="KBRG")
+    lines = path.read_text().splitlines()
+    assert lines[3].startswith("DMIG    KBRG           0       6       2       0")
+    assert all(len(line) <= 80 for line in lines)
+    entries = ex.read_dmig(path)
+    back = np.zeros((5, 5))
+    for (gi, ci, gj, cj), value in entries.items():
+        assert gi == gj == 101 and ci <= cj
+        back[ci - 1, cj - 1] = back[cj - 1, ci - 1] = value
+    np.testing.assert_allclose(back, K, rtol=1e-9, atol=1e-9 * np.abs(K).max())
+
+
+def test_dmig_two_grids_is_a_spring_between_them(tmp_path):
+    entries = ex.read_dmig(ex.write_dmig(tmp_path / "k.dmig", K, grid=1, ground_grid=2))
+    assert entries[(1, 1, 1, 1)] == pytest.approx(K[0, 0], rel=1e-9)
+    assert entries[(1, 1, 2, 1)] == pytest.approx(-K[0, 0], rel=1e-9)
+    assert entries[(2, 3, 2, 5)] == pytest.approx(K[2, 4], rel=1e-9)
+
+
+def test_ross_arguments_are_si_and_warn_about_dropped_terms(tmp_path):
+    with pytest.warns(UserWarning, match="tilt stiffness and the translation-tilt coupling terms"):
+        args = ex.ross_arguments(K, node=3)
+    assert args["n"] == 3 and args["kxx"] == pytest.approx(K[0, 0] * 1e3) and args["kzz"] == pytest.approx(K[2, 2] * 1e3)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        body = json.loads(ex.write_ross(tmp_path / "r.json", K).read_text())
+    assert body["kyy"] == pytest.approx(K[1, 1] * 1e3)
+
+
+def test_never_overwrites_and_rejects_bad_input(tmp_path):
+    path = ex.write_csv(tmp_path / "k.csv", K)
+    with pytest.raises(ValueError, match="exists; pass --overwrite"):
+        ex.write_csv(path, K)
+    ex.write_csv(path, K, overwrite=True)
+    with pytest.raises(ValueError, match="K must be 5x5"):
+        ex.write_json(tmp_path / "x.json", np.ones((4, 4)))
+    with pytest.raises(ValueError, match="grid must be a positive integer"):
+        ex.write_dmig(tmp_path / "x.dmig", K, grid=0)
+    with pytest.raises(ValueError, match="Nastran name"):
+        ex.write_dmig(tmp_path / "x.dmig", K, grid=1, name="TOO_LONG_NAME")
+    with pytest.raises(ValueError, match="one 5x5 matrix"):
+        ex.write_dmig(tmp_path / "x.dmig", np.stack([K, K]), grid=1)
