@@ -108,6 +108,21 @@ def read_config(config) -> LoadMapConfig:
                          digest.hexdigest())
 
 
+def compute_block(bearing: Bearing, given_load: bool, line_length: int, inputs: np.ndarray, solver: dict,
+                  res: dict) -> None:
+    """Fill the result arrays ``res`` (views of one block) for ``inputs``: the work unit of a map.
+
+    Local runs and Dask workers both call this, on the same blocks, which is
+    why their outputs are identical bit for bit.
+    """
+    balls = bearing.ball_set()
+    ball_row = balls[0][ROW].astype(np.int64)
+    map_sweep(inputs, given_load, line_length, res["q"], res["f"], res["K"], res["status"], res["iterations"],
+              res["residual"], res["max_ball_load"], res["loaded_balls"], res["min_contact_angle"],
+              res["max_contact_angle"], balls, ball_row, solver["method"], solver["rtol"], solver["max_iter"],
+              solver["length_scale"], solver["force_floor"], solver["max_step"])
+
+
 class _Buffers:
     """Per-block result arrays, allocated once for the largest block and reused."""
 
@@ -195,7 +210,7 @@ def _progress(total: int, initial: int, show):
 
 
 def loadmap(config, output=None, *, threads=None, resume=False, overwrite=False, progress=None,
-            as_dataset=False):
+            as_dataset=False, client=None, max_in_flight=None):
     """Compute a load map and write it to HDF5.
 
     Parameters
@@ -215,6 +230,11 @@ def loadmap(config, output=None, *, threads=None, resume=False, overwrite=False,
         Progress bar on stderr (default: only when stderr is a terminal).
     as_dataset : bool
         Return an ``xarray.Dataset`` (needs xarray and h5netcdf) instead of the path.
+    client : dask.distributed.Client, optional
+        Run the blocks on a Dask cluster (see :mod:`fastbearing.distributed`);
+        the output is identical to a local run.
+    max_in_flight : int, optional
+        Blocks out on the cluster at once (default: 2 per worker thread).
 
     Returns
     -------
@@ -234,39 +254,30 @@ def loadmap(config, output=None, *, threads=None, resume=False, overwrite=False,
     if not resuming:
         _create(cfg, part, blocks)
     opts = solver_settings(cfg.bearing, cfg.method, cfg.rtol, cfg.max_iter)
-    balls = cfg.bearing.ball_set()
-    ball_row = balls[0][ROW].astype(np.int64)
     size = max(b.size for b in blocks)
     given_load = cases.given == "load"
     pf = storage.PartFile(part)
     started = time.perf_counter()
-    computed = 0
     done = pf.done_mask()
+    pending = [b for b in blocks if not done[b.index]]
     bar = _progress(cases.n_cases, sum(b.size for b in blocks if done[b.index]), progress)
-    # two buffer sets: one being computed, one being written
-    writer = storage.BlockWriter(pf, [_Buffers(size, cfg.bearing.n_rows) for _ in range(2)],
-                                 on_written=(lambda b: bar.update(b.size)) if bar is not None else None)
+    on_written = (lambda b: bar.update(b.size)) if bar is not None else None
     try:
-        with num_threads(threads), _Interrupt() as interrupt:
-            for block in blocks:
-                if done[block.index]:
-                    continue
-                buf = writer.buffer()
-                res = buf.view(block.size)
-                map_sweep(cases.inputs(block.start, block.stop), given_load, cases.line_length, res["q"], res["f"],
-                          res["K"], res["status"], res["iterations"], res["residual"], res["max_ball_load"],
-                          res["loaded_balls"], res["min_contact_angle"], res["max_contact_angle"], balls, ball_row,
-                          opts["method"], opts["rtol"], opts["max_iter"], opts["length_scale"],
-                          opts["force_floor"], opts["max_step"])
-                writer.submit(block, res, buf)
-                computed += block.size
-                if interrupt.requested:
-                    raise KeyboardInterrupt
-            writer.close()
+        with _Interrupt() as interrupt:
+            if client is None:
+                # two buffer sets: one being computed, one being written
+                writer = storage.BlockWriter(pf, [_Buffers(size, cfg.bearing.n_rows) for _ in range(2)], on_written)
+                with num_threads(threads):
+                    _run_local(cfg, pending, given_load, opts, writer, interrupt)
+            else:
+                from .distributed import run_blocks
+
+                writer = storage.BlockWriter(pf, [object() for _ in range(4)], on_written)
+                engine = run_blocks(client, cfg, pending, given_load, opts, writer, interrupt, max_in_flight)
+                pf.fh.attrs.update(engine)
         if bar is not None:
             bar.close()
     except KeyboardInterrupt:
-        writer.close()  # finish the block in flight: it is kept for --resume
         pf.close()
         print(f"\nfastbearing: interrupted; finished blocks are kept in {part}; continue with --resume",
               file=sys.stderr)
@@ -274,6 +285,7 @@ def loadmap(config, output=None, *, threads=None, resume=False, overwrite=False,
     except BaseException:
         pf.close()
         raise
+    computed = sum(b.size for b in pending)
     counts = _status_counts(pf)
     pf.close()
     wall = time.perf_counter() - started
@@ -282,6 +294,21 @@ def loadmap(config, output=None, *, threads=None, resume=False, overwrite=False,
                    [v.name for v in storage.result_variables(cases.given)])
     _summary(cases.n_cases, counts, wall, computed)
     return open_dataset(out) if as_dataset else out
+
+
+def _run_local(cfg, pending, given_load, opts, writer, interrupt) -> None:
+    """Compute blocks here, overlapping each block's HDF5 write with the next block's compute."""
+    try:
+        for block in pending:
+            buf = writer.buffer()
+            res = buf.view(block.size)
+            compute_block(cfg.bearing, given_load, cfg.cases.line_length, cfg.cases.inputs(block.start, block.stop),
+                          opts, res)
+            writer.submit(block, res, buf)
+            if interrupt.requested:
+                raise KeyboardInterrupt
+    finally:
+        writer.close()  # also on Ctrl-C: the block in flight is written and kept for --resume
 
 
 def _status_counts(pf: storage.PartFile) -> dict[int, int]:
