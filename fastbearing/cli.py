@@ -1,4 +1,4 @@
-"""Command line: ``fastbearing solve | bearing | loadmap | passage ...``.
+"""Command line: ``fastbearing solve | bearing | loadmap | passage | plot | paper ...``.
 
 Bad input gives a one-line error on stderr and exit code 2, never a traceback.
 """
@@ -105,7 +105,152 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--overwrite", action="store_true", help="replace existing output files")
     p.add_argument("--csv", action="store_true", help="also write OUT_point0000.csv ... (one per operating "
                    "point: cage angle in rad, time in s if a speed is given, the 15 independent Kb entries)")
+    _add_plot_parsers(sub)
+    r = sub.add_parser("paper", help="recompute Gunduz & Singh (2013): Figs. 6-14 (PNG) and a report",
+                       description=(
+                           "Recompute the paper's Figs. 6-14 and Tables 2-4 with fastbearing and write "
+                           "fig06.png ... fig14.png and report.md (the paper's tables beside fastbearing's, "
+                           "with % differences and notes where the paper is wrong) into DIR. Needs matplotlib "
+                           "(pip install 'fastbearing[plot]')."))
+    r.add_argument("--out", required=True, metavar="DIR", help="output folder (created if missing)")
+    r.add_argument("--overwrite", action="store_true", help="replace existing figures and report")
     return parser
+
+
+def _size(text: str) -> tuple[int, int]:
+    try:
+        w, h = (int(v) for v in text.lower().split("x"))
+    except ValueError:
+        raise ValueError(f"--size must be WIDTHxHEIGHT in pixels, e.g. 800x560, got {text!r}") from None
+    return w, h
+
+
+def _at(text: str | None) -> dict:
+    """--at Fz=1000,My=0 -> {"Fz": 1000.0, "My": 0.0}."""
+    out = {}
+    for part in _names(text or ""):
+        name, _, value = part.partition("=")
+        try:
+            out[name.strip()] = float(value)
+        except ValueError:
+            raise ValueError(f"--at needs NAME=VALUE pairs separated by commas (e.g. Fz=1000,My=0), "
+                             f"got {text!r}") from None
+        if not math.isfinite(out[name.strip()]):
+            raise ValueError(f"--at values must be finite, got {text!r}")
+    return out
+
+
+def _names(text: str) -> list[str]:
+    return [n.strip() for n in text.split(",") if n.strip()]
+
+
+def _add_plot_parsers(sub) -> None:
+    p = sub.add_parser("plot", help="pictures of load maps, ball-passage tables and load zones (PNG, SVG, PDF)",
+                       description=(
+                           "Plot a load map (map, line), a ball-passage table (passage, spectrum) or the ball "
+                           "loads of one operating point (loadzone). The format follows the output's extension "
+                           "(.png, .svg, .pdf). Variables: Kb entries k + two of x, y, z, tx, ty (kxx, kzz, kxty, "
+                           "ktyty ...), q components dx ... by, f components Fx ... My, max_ball_load, "
+                           "loaded_balls, min_contact_angle, max_contact_angle. Units: N, mm, rad, shown with "
+                           "k/M/G or m prefixes unless --base-units. Needs matplotlib "
+                           "(pip install 'fastbearing[plot]')."))
+    kinds = p.add_subparsers(dest="kind", required=True, parser_class=_Parser)
+
+    def common(q, file=True):
+        if file:
+            q.add_argument("file", metavar="FILE.h5", help="a finished fastbearing file")
+        q.add_argument("-o", "--output", required=True, metavar="OUT.png", help="picture file: .png, .svg or .pdf")
+        q.add_argument("--overwrite", action="store_true", help="replace an existing picture")
+        q.add_argument("--size", type=str, metavar="WxH", help="width x height in pixels (default 800x560)")
+        q.add_argument("--dpi", type=int, default=100, help="pixels per inch (default 100)")
+        if file:
+            q.add_argument("--at", metavar="NAME=VALUE,...", help="fix the other axes at the nearest grid values "
+                           "(default: the middle value for maps, the first operating point for passage tables)")
+            q.add_argument("--base-units", action="store_true", help="label in N, mm, rad without prefixes")
+
+    m = kinds.add_parser("map", help="contour or heat map of one variable over two axes of a load map")
+    common(m)
+    m.add_argument("--var", required=True, help="variable, e.g. kzz, ktyty, kxty, dz, max_ball_load")
+    m.add_argument("--x", required=True, help="horizontal axis, e.g. Fx")
+    m.add_argument("--y", required=True, help="vertical axis, e.g. My")
+    m.add_argument("--kind", dest="kind_of_map", choices=["contour", "heatmap"], default="contour",
+                   help="filled contours (default) or a heat map of the grid cells")
+    m.add_argument("--row", type=int, help="row of a per-row variable (default: all rows: total, smallest or largest)")
+    line = kinds.add_parser("line", help="variables of a load map along one axis")
+    common(line)
+    line.add_argument("--var", required=True, help="comma-separated variables, one panel each, e.g. kxx,kzz")
+    line.add_argument("--x", required=True, help="axis along the lines, e.g. Fz")
+    line.add_argument("--series", help="another axis: one line per value of it (at most 12)")
+    line.add_argument("--row", type=int, help="row of a per-row variable (default: one line per row)")
+    ps = kinds.add_parser("passage", help="Kb entries over one ball-pass period of a passage table")
+    common(ps)
+    ps.add_argument("--var", default="kxx,kzz,ktyty", help="comma-separated entries (default kxx,kzz,ktyty)")
+    ps.add_argument("--x", choices=["angle", "period", "time"], default="angle",
+                    help="cage angle (rad), fraction of the period, or time (s; needs a shaft speed)")
+    ps.add_argument("--normalise", choices=["none", "first", "mean"], default="none",
+                    help="divide by the value at position 0 (the paper's Fig. 13) or by the mean (default none)")
+    sp = kinds.add_parser("spectrum", help="harmonic amplitudes of Kb entries of a passage table")
+    common(sp)
+    sp.add_argument("--var", default="kxx,kzz,ktyty", help="comma-separated Kb entries (default kxx,kzz,ktyty)")
+    sp.add_argument("--normalise", choices=["none", "mean"], default="mean",
+                    help="amplitudes in %% of the mean (default) or in the entry's units")
+    sp.add_argument("--linear", action="store_true", help="linear instead of logarithmic amplitude axis")
+    z = kinds.add_parser("loadzone", help="polar plot of the ball loads of one operating point, per row")
+    common(z, file=False)
+    which = z.add_mutually_exclusive_group(required=True)
+    which.add_argument("--preset", choices=preset_names(), help="a shipped bearing (with --arrangement)")
+    which.add_argument("--bearing", metavar="FILE.toml", help="a bearing file with a [bearing] table")
+    z.add_argument("--arrangement", choices=["single", "DB", "DF", "DT"], help="arrangement for --preset")
+    given = z.add_mutually_exclusive_group(required=True)
+    given.add_argument("--load", metavar="Fx,Fy,Fz,Mx,My", help="load: N, N, N, N*mm, N*mm (solved for q)")
+    given.add_argument("--displacement", metavar="dx,dy,dz,bx,by", help="displacement: mm, mm, mm, rad, rad")
+
+
+def _optional(run):
+    """Run a command that needs the plot extra: a missing matplotlib or xarray is one line and exit 2."""
+    def command(args) -> int:
+        try:
+            return run(args)
+        except ImportError as err:
+            raise ValueError(f"{err} (pip install 'fastbearing[plot]')") from None
+    return command
+
+
+@_optional
+def _plot(args) -> int:
+    from . import plot
+
+    size = _size(args.size) if args.size else None
+    opts = dict(out=args.output, overwrite=args.overwrite, size=size, dpi=args.dpi)
+    if args.kind == "loadzone":
+        bearing = _bearing(args)
+        code = 0
+        if args.load is not None:
+            result = solve(bearing, _five_numbers(args.load, "--load"))
+            q, code = result.q, 0 if result.converged else 1
+            title = None if result.converged else f"NOT CONVERGED ({result.status_name}): last iterate shown"
+        else:
+            q, title = _five_numbers(args.displacement, "--displacement"), None
+        plot.plot_load_zone(bearing, q, title=title, **opts)
+        return code
+    opts.update(at=_at(args.at), base_units=args.base_units)
+    if args.kind == "map":
+        plot.plot_map(args.file, args.var, args.x, args.y, kind=args.kind_of_map, row=args.row, **opts)
+    elif args.kind == "line":
+        plot.plot_lines(args.file, _names(args.var), args.x, series=args.series, row=args.row, **opts)
+    elif args.kind == "passage":
+        plot.plot_passage(args.file, _names(args.var), x=args.x, normalise=args.normalise, **opts)
+    else:
+        plot.plot_spectrum(args.file, _names(args.var), normalise=args.normalise, log=not args.linear, **opts)
+    return 0
+
+
+@_optional
+def _paper(args) -> int:
+    from .paper import paper
+
+    paper(args.out, overwrite=args.overwrite)
+    return 0
 
 
 def _passage(args) -> int:
@@ -278,7 +423,7 @@ def main(argv=None) -> int:
     try:
         args = parser.parse_args(argv)
         return {"solve": _solve, "bearing": _bearing_command, "loadmap": _loadmap,
-                "passage": _passage}[args.command](args)
+                "passage": _passage, "plot": _plot, "paper": _paper}[args.command](args)
     except (_UsageError, ValueError) as err:
         print(f"fastbearing: error: {err}" if not str(err).startswith("fastbearing") else str(err),
               file=sys.stderr)

@@ -1,0 +1,626 @@
+"""Pictures: load maps, ball-passage tables and load zones (matplotlib, optional).
+
+Install with ``pip install 'fastbearing[plot]'``. matplotlib is imported on
+the first plot, never with the package; without a display the Agg backend is
+used. Every function returns a ``matplotlib.figure.Figure`` and, given
+``out``, also writes it: the format (PNG, SVG or PDF) follows the file
+extension, and an existing file is never replaced unless ``overwrite``.
+
+Data are in N, mm, rad. Axis labels carry the units, with a decimal prefix
+chosen for readable ticks (kN/mm, MN*mm/rad, mrad); ``base_units=True`` keeps
+N, mm, rad as stored.
+
+Variables (``var``): a Kb entry ``k`` + two of x, y, z, tx, ty (``kxx``,
+``kzz``, ``kxty``, ``ktyty``, ...); a displacement component ``dx`` ...
+``by`` (q) or a load component ``Fx`` ... ``My`` (f); ``max_ball_load``,
+``loaded_balls``, ``min_contact_angle``, ``max_contact_angle`` (per row).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import math
+import os
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from . import status as st
+from .api import DISPLACEMENT_NAMES, DISPLACEMENT_UNITS, LOAD_NAMES, LOAD_UNITS
+
+FORMATS = (".png", ".svg", ".pdf")
+#: Default picture size in pixels (width, height) and resolution.
+DEFAULT_SIZE = (800, 560)
+DEFAULT_DPI = 100
+DOF = ("x", "y", "z", "tx", "ty")
+ROW_VARIABLES = {"max_ball_load": ("N", "largest ball load"), "loaded_balls": ("1", "loaded balls"),
+                 "min_contact_angle": ("rad", "smallest loaded contact angle"),
+                 "max_contact_angle": ("rad", "largest loaded contact angle")}
+NORMALISE = ("none", "first", "mean")
+PASSAGE_X = ("angle", "period", "time")
+#: The paper's Fig. 13/14 entries, the default of passage plots.
+PAPER_ENTRIES = ("kxx", "kzz", "ktyty")
+MARKERS = {"DB": "o", "DF": "s", "DT": "^", "single": "x"}
+_STYLE = {"font.size": 10, "axes.titlesize": 10, "axes.labelsize": 10, "legend.fontsize": 9,
+          "legend.frameon": False, "axes.grid": True, "grid.alpha": 0.35, "lines.linewidth": 1.6,
+          "lines.markersize": 5, "image.cmap": "viridis", "savefig.facecolor": "white"}
+_SYMBOL = {"x": "x", "y": "y", "z": "z", "tx": r"\theta_x", "ty": r"\theta_y"}
+_QUANTITY_UNITS = dict(zip(DISPLACEMENT_NAMES + LOAD_NAMES, DISPLACEMENT_UNITS + LOAD_UNITS))
+_PREFIXES = ((1e9, "G"), (1e6, "M"), (1e3, "k"))
+
+
+# -- matplotlib, figures, files ------------------------------------------------
+
+def _mpl():
+    """matplotlib, imported on first use; Agg where there is no display."""
+    try:
+        import matplotlib
+    except ImportError:
+        raise ImportError("plots need matplotlib: pip install 'fastbearing[plot]'") from None
+    if ("MPLBACKEND" not in os.environ and sys.platform.startswith("linux")
+            and not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY"))):
+        matplotlib.use("Agg")
+    return matplotlib
+
+
+def style():
+    """Context manager with fastbearing's plot style (grid, font sizes, viridis)."""
+    return _mpl().rc_context(_STYLE)
+
+
+def new_figure(size=None, dpi: int = DEFAULT_DPI):
+    """An empty Figure of ``size`` = (width, height) pixels, constrained layout (no pyplot state)."""
+    from matplotlib.figure import Figure
+
+    _mpl()
+    w, h = DEFAULT_SIZE if size is None else size
+    if not (w >= 50 and h >= 50 and dpi >= 10):
+        raise ValueError(f"size must be at least 50x50 pixels and dpi at least 10, got {w}x{h} at {dpi}")
+    return Figure(figsize=(w / dpi, h / dpi), dpi=dpi, layout="constrained")
+
+
+def check_output(out, overwrite: bool = False) -> Path:
+    """The output path, checked before any work: a known extension, no silent overwrite."""
+    out = Path(out)
+    if out.suffix.lower() not in FORMATS:
+        raise ValueError(f"output must end in .png, .svg or .pdf (the format follows the extension), "
+                         f"got {out.name!r}")
+    if out.exists() and not overwrite:
+        raise ValueError(f"{out} exists; pass --overwrite (overwrite=True) to replace it")
+    if not out.parent.is_dir():
+        raise ValueError(f"output folder {out.parent} does not exist")
+    return out
+
+
+def save(fig, out, overwrite: bool = False) -> Path:
+    """Write ``fig`` to ``out`` (format from the extension), via a temporary name: never half-written."""
+    out = check_output(out, overwrite)
+    tmp = out.with_name(out.name + ".part")
+    try:
+        fig.savefig(tmp, format=out.suffix[1:].lower(), dpi=fig.dpi)
+        os.replace(tmp, out)
+    finally:
+        tmp.unlink(missing_ok=True)
+    return out
+
+
+def _finish(fig, out, overwrite):
+    if out is not None:
+        save(fig, out, overwrite)
+    return fig
+
+
+# -- names, units, labels --------------------------------------------------------
+
+def k_entry(name: str) -> tuple[int, int]:
+    """Row and column of a Kb entry named ``k`` + two of x, y, z, tx, ty (``ktyty`` -> (4, 4))."""
+    rest, index = name[1:] if name.startswith("k") else None, []
+    while rest:
+        label = rest[:2] if rest.startswith("t") else rest[:1]
+        if label not in DOF:
+            return None
+        index.append(DOF.index(label))
+        rest = rest[len(label):]
+    return tuple(index) if len(index) == 2 else None
+
+
+def k_units(i: int, j: int) -> str:
+    """Units of Kb[i, j]: N/mm among translations, N*mm/rad among tilts, N/rad between."""
+    tilt_i, tilt_j = i >= 3, j >= 3
+    return "N*mm/rad" if tilt_i and tilt_j else "N/rad" if tilt_i or tilt_j else "N/mm"
+
+
+def symbol(name: str) -> str:
+    """Math-text symbol of a variable or axis: kxty -> k_{x theta_y}, dx -> delta_x, Fx -> F_x."""
+    ij = k_entry(name)
+    if ij is not None:
+        return rf"$k_{{{_SYMBOL[DOF[ij[0]]]}{_SYMBOL[DOF[ij[1]]]}}}$"
+    if name in DISPLACEMENT_NAMES:
+        return rf"$\{'delta' if name[0] == 'd' else 'beta'}_{name[1]}$"
+    if name in LOAD_NAMES:
+        return rf"${name[0]}_{name[1]}$"
+    return ROW_VARIABLES.get(name, (None, name.replace("_", " ")))[1]
+
+
+def scale_units(values, units: str, base_units: bool = False) -> tuple[float, str]:
+    """Factor and unit text for display: N-based units get k/M/G, small rad -> mrad, small s -> ms."""
+    shown = units.replace("*", "\u00b7")
+    if base_units or units in ("1", "%"):
+        return 1.0, shown
+    values = np.asarray(values, dtype=float)
+    top = float(np.nanmax(np.abs(values))) if values.size and np.isfinite(values).any() else 0.0
+    if units.startswith("N"):
+        for limit, prefix in _PREFIXES:
+            if top >= limit:
+                return 1.0 / limit, prefix + shown
+    elif units == "rad" and 0 < top < 0.1:
+        return 1e3, "mrad"
+    elif units == "s" and 0 < top < 1:
+        return 1e3, "ms"
+    return 1.0, shown
+
+
+def axis_label(text: str, units: str) -> str:
+    """``text (units)``; dimensionless quantities read ``(-)``."""
+    return f"{text} ({'-' if units == '1' else units})"
+
+
+# -- reading files ---------------------------------------------------------------
+
+@contextlib.contextmanager
+def _dataset(source, kind: str):
+    """An xarray Dataset of a finished load map (``kind="map"``) or ball-passage table (``"passage"``),
+    from a path (closed afterwards) or a Dataset (left open)."""
+    if hasattr(source, "data_vars"):
+        ds, opened = source, False
+    else:
+        path = Path(source)
+        if not path.exists():
+            raise ValueError(f"{path}: file not found")
+        from .loadmap import open_dataset
+
+        ds, opened = open_dataset(path), True  # ValueError if it is not a finished fastbearing file
+    try:
+        if "K" not in ds or "status" not in ds:
+            raise ValueError("not a fastbearing load map or ball-passage file (no K or status variable)")
+        is_passage = "position" in ds.dims
+        if kind == "map" and is_passage:
+            raise ValueError("this is a ball-passage table; plot it with 'plot passage' or 'plot spectrum'")
+        if kind == "passage" and not is_passage:
+            raise ValueError("this is a load map, not a ball-passage table; plot it with 'plot map' or 'plot line'")
+        yield ds
+    finally:
+        if opened:
+            ds.close()
+
+
+def case_dims(ds) -> list[str]:
+    """The file's operating-point axes (grid axes, or ``case`` / ``point``), without ``position``."""
+    return [d for d in ds["status"].dims if d != "position"]
+
+
+def _bearing_title(ds) -> str:
+    import json
+
+    try:
+        b = json.loads(ds.attrs["bearing_json"])
+        return f"{b.get('name') or 'bearing'} {b.get('arrangement', '')}".strip()
+    except (KeyError, ValueError):
+        return "bearing"
+
+
+def variable(ds, var: str, row=None):
+    """DataArray of ``var`` over the case dims (and ``row`` for per-row variables), with its units."""
+    ij = k_entry(var)
+    if ij is not None:
+        return ds["K"].isel(dof=ij[0], dof_col=ij[1]), k_units(*ij)
+    if var in DISPLACEMENT_NAMES:
+        return ds["q"].isel(dof=DISPLACEMENT_NAMES.index(var)), _QUANTITY_UNITS[var]
+    if var in LOAD_NAMES:
+        return ds["f"].isel(dof=LOAD_NAMES.index(var)), _QUANTITY_UNITS[var]
+    if var in ROW_VARIABLES:
+        da = ds[var].astype(float)
+        if row is not None:
+            n = ds.sizes["row"]
+            if isinstance(row, bool) or not isinstance(row, (int, np.integer)) or not 0 <= row < n:
+                raise ValueError(f"row must be an integer in [0, {n - 1}], got {row!r}")
+            da = da.isel(row=int(row))
+        return da, ROW_VARIABLES[var][0]
+    raise ValueError(f"unknown variable {var!r}; use a Kb entry k + two of {', '.join(DOF)} (kxx, kzz, kxty, "
+                     f"ktyty ...), {', '.join(DISPLACEMENT_NAMES)} (q), {', '.join(LOAD_NAMES)} (f) or "
+                     f"{', '.join(ROW_VARIABLES)}")
+
+
+def _axis_units(ds, name: str) -> str:
+    return ds[name].attrs.get("units", _QUANTITY_UNITS.get(name, "1"))
+
+
+def select(ds, da, keep, at=None, default: str = "middle"):
+    """Fix every case axis not in ``keep`` at the nearest value of ``at[axis]`` (default: the middle
+    value, or the first with ``default="first"``).
+
+    Returns the selected ``da``, the matching solver ``status`` and the operating point as a list of
+    'name = value units' texts (for titles).
+    """
+    dims = case_dims(ds)
+    at = dict(at or {})
+    unknown = sorted(set(at) - set(dims))
+    if unknown:
+        raise ValueError(f"unknown axis {unknown[0]!r} in at; this file's axes: {', '.join(dims)}")
+    for name in keep:
+        if name in at:
+            raise ValueError(f"axis {name!r} is plotted; it cannot also be fixed with at")
+    fixed, where = {}, []
+    for name in dims:
+        if name in keep:
+            continue
+        values = ds[name].values
+        if name in at:
+            value = at[name]
+            if isinstance(value, bool) or not isinstance(value, (int, float, np.number)) or not math.isfinite(value):
+                raise ValueError(f"at.{name} must be a finite number, got {value!r}")
+            k = int(np.argmin(np.abs(values - value)))
+        else:
+            k = len(values) // 2 if default == "middle" else 0
+        fixed[name] = k
+        if name in ("case", "point"):  # a table of operating points: name the chosen one's inputs
+            where.append(f"{name} {int(values[k])}")
+            where += [_value_text(c, float(ds[c].values[k]), _axis_units(ds, c))
+                      for c in LOAD_NAMES + DISPLACEMENT_NAMES
+                      if c in ds.coords and ds[c].dims == (name,) and ds[c].values[k] != 0]
+        else:
+            where.append(_value_text(name, values[k], _axis_units(ds, name)))
+    # constant inputs are part of the operating point too
+    for name in LOAD_NAMES + DISPLACEMENT_NAMES:
+        if name in ds.coords and ds[name].ndim == 0 and float(ds[name]) != 0.0:
+            where.append(_value_text(name, float(ds[name]), _axis_units(ds, name)))
+    return da.isel(fixed), ds["status"].isel(fixed), where
+
+
+def _value_text(name: str, value: float, units: str) -> str:
+    factor, shown = scale_units([value], units)
+    return f"{name} = {value * factor:.4g}" + ("" if units == "1" else f" {shown}")
+
+
+def _converged(status) -> np.ndarray:
+    s = np.asarray(status) & st.OUTCOME_MASK
+    return (s == st.CONVERGED) | (s == st.UNLOADED)
+
+
+def _check_axis(ds, name: str, role: str) -> None:
+    dims = case_dims(ds)
+    if name not in dims or name in ("case", "point"):
+        grid = [d for d in dims if d not in ("case", "point")]
+        raise ValueError(f"unknown axis {name!r} for {role}; this file's grid axes: "
+                         f"{', '.join(grid) if grid else 'none (a case table has no grid to plot over)'}")
+    if ds.sizes[name] < 2:
+        raise ValueError(f"axis {name!r} has 1 value; {role} needs at least 2")
+
+
+# -- load maps ---------------------------------------------------------------------
+
+def plot_map(source, var: str, x: str, y: str, *, at=None, row=None, kind: str = "contour", out=None,
+             overwrite: bool = False, size=None, dpi: int = DEFAULT_DPI, base_units: bool = False, levels: int = 15):
+    """Contour or heat map of one variable of a load map over two of its grid axes.
+
+    Parameters
+    ----------
+    source : str, Path or xarray.Dataset
+        A finished load-map file (``fastbearing loadmap``) or its dataset.
+    var : str
+        Kb entry (``kzz``, ``kxty`` ...), q or f component, or a per-row
+        summary (without ``row``: over all rows, ``loaded_balls`` summed,
+        ``min_contact_angle`` the smallest, the others the largest).
+    x, y : str
+        Grid axes for the horizontal and vertical directions (e.g. ``Fx``, ``My``).
+    at : dict, optional
+        Values for the other axes; the nearest grid value is used (default: the middle one).
+    kind : {"contour", "heatmap"}
+    out : str or Path, optional
+        Output file .png, .svg or .pdf.
+    size : (int, int), optional
+        Width and height in pixels (default 800 x 560).
+
+    Cases that did not converge are left blank.
+    """
+    if kind not in ("contour", "heatmap"):
+        raise ValueError(f"kind must be 'contour' or 'heatmap', got {kind!r}")
+    if out is not None:
+        check_output(out, overwrite)
+    with _dataset(source, "map") as ds:
+        _check_axis(ds, x, "a map")
+        _check_axis(ds, y, "a map")
+        if x == y:
+            raise ValueError(f"x and y must be two different axes, got {x!r} twice")
+        da, units = variable(ds, var, row)
+        da, status, where = select(ds, da, (x, y), at)
+        ok = _converged(status.transpose(y, x).values)
+        if "row" in da.dims:  # a per-row variable over all rows: the bearing's total, smallest or largest
+            da = {"loaded_balls": da.sum, "min_contact_angle": da.min}.get(var, da.max)("row")
+        z = np.where(ok, da.transpose(y, x).values, np.nan)
+        xv, yv = ds[x].values, ds[y].values
+        with style():
+            fig = new_figure(size, dpi)
+            ax = fig.add_subplot()
+            fx, ux = scale_units(xv, _axis_units(ds, x), base_units)
+            fy, uy = scale_units(yv, _axis_units(ds, y), base_units)
+            fz, uz = scale_units(z, units, base_units)
+            finite = z[np.isfinite(z)]
+            flat = finite.size == 0 or np.ptp(finite) <= 1e-12 * max(1.0, np.abs(finite).max())
+            if kind == "heatmap" or flat:
+                mesh = ax.pcolormesh(xv * fx, yv * fy, z * fz, shading="nearest")
+            else:
+                mesh = ax.contourf(xv * fx, yv * fy, z * fz, levels=levels)
+                ax.contour(mesh, colors="k", linewidths=0.4, alpha=0.6)
+            bar = fig.colorbar(mesh, ax=ax)
+            what = symbol(var) + ("" if row is None or var not in ROW_VARIABLES else f", row {row}")
+            bar.set_label(axis_label(what, uz))
+            ax.set_xlabel(axis_label(symbol(x), ux))
+            ax.set_ylabel(axis_label(symbol(y), uy))
+            ax.grid(False)
+            blank = int((~ok).sum())
+            ax.set_title(f"{what} of {_bearing_title(ds)}" + (f" at {', '.join(where)}" if where else "")
+                         + (f"\n{blank} case(s) not converged (blank)" if blank else ""))
+            return _finish(fig, out, overwrite)
+
+
+def plot_lines(source, var, x: str, *, at=None, row=None, series=None, out=None, overwrite: bool = False,
+               size=None, dpi: int = DEFAULT_DPI, base_units: bool = False):
+    """Line plots of one or more variables of a load map along one grid axis.
+
+    One panel per variable (shared ``x``). ``series`` names a second axis:
+    one line per value of it (up to 12). A per-row variable without ``row``
+    gets one line per row. ``at`` fixes the other axes (nearest value;
+    default the middle one). Non-converged cases are gaps.
+    """
+    names = [var] if isinstance(var, str) else list(var)
+    if not names:
+        raise ValueError("var must name at least one variable")
+    if out is not None:
+        check_output(out, overwrite)
+    with _dataset(source, "map") as ds:
+        _check_axis(ds, x, "a line plot")
+        keep = (x,)
+        if series is not None:
+            _check_axis(ds, series, "series")
+            if series == x:
+                raise ValueError(f"series must be another axis than x ({x!r})")
+            if ds.sizes[series] > 12:
+                raise ValueError(f"series axis {series!r} has {ds.sizes[series]} values; at most 12 lines per panel")
+            keep = (x, series)
+        xv = ds[x].values
+        with style():
+            fig = new_figure(size, dpi)
+            axes = fig.subplots(len(names), 1, sharex=True, squeeze=False)[:, 0]
+            fx, ux = scale_units(xv, _axis_units(ds, x), base_units)
+            where = []
+            for ax, name in zip(axes, names):
+                da, units = variable(ds, name, row)
+                da, status, where = select(ds, da, keep, at)
+                ok = _converged(status.values)
+                values = np.where(ok[..., None] if "row" in da.dims else ok, da.values, np.nan)
+                # put x first, then the series axis, then row
+                order = [da.dims.index(d) for d in keep] + ([da.dims.index("row")] if "row" in da.dims else [])
+                values = values.transpose(order).reshape(len(xv), -1)
+                labels = []
+                if series is not None:
+                    fs, us = scale_units(ds[series].values, _axis_units(ds, series), base_units)
+                    labels = [f"{symbol(series)} = {v * fs:.4g} {us}" for v in ds[series].values]
+                if "row" in da.dims:
+                    rows = [f"row {r}" for r in range(ds.sizes["row"])]
+                    labels = [f"{a}, {b}" for a in labels for b in rows] if labels else rows
+                fv, uv = scale_units(values, units, base_units)
+                for k in range(values.shape[1]):
+                    ax.plot(xv * fx, values[:, k] * fv, marker="o" if len(xv) <= 25 else None,
+                            label=labels[k] if labels else None)
+                ax.set_ylabel(axis_label(symbol(name), uv))
+                if labels:
+                    ax.legend(fontsize=8)
+            axes[-1].set_xlabel(axis_label(symbol(x), ux))
+            axes[0].set_title(f"{_bearing_title(ds)}" + (f" at {', '.join(where)}" if where else ""))
+            return _finish(fig, out, overwrite)
+
+
+# -- ball passage --------------------------------------------------------------------
+
+def passage_curve(ds, var: str, *, at=None, x: str = "angle", normalise: str = "none",
+                  base_units: bool = False):
+    """One entry of a passage table over one whole period (position 0 repeated at the end).
+
+    Returns (x values, y values, x label, y label, operating-point text list) with display
+    scaling applied. ``normalise``: ``"first"`` divides by the value at position 0 (the
+    paper's Figs. 13 and 14), ``"mean"`` by the mean over the period, ``"none"`` keeps units.
+    """
+    if normalise not in NORMALISE:
+        raise ValueError(f"normalise must be one of {', '.join(NORMALISE)}, got {normalise!r}")
+    if x not in PASSAGE_X:
+        raise ValueError(f"x must be one of {', '.join(PASSAGE_X)}, got {x!r}")
+    da, units = variable(ds, var)
+    if "row" in da.dims:
+        raise ValueError(f"{var} is per row; passage plots take Kb entries, q or f components")
+    da, status, where = select(ds, da, ("position",), at, default="first")
+    values = np.where(_converged(status.values), da.values, np.nan)
+    values = np.append(values, values[0])
+    angle = np.append(ds["cage_angle"].values, float(ds.attrs["period_rad"]))
+    if x == "angle":
+        xv, xunits, xtext = angle, "rad", r"cage angle $\psi_c$"
+    elif x == "period":
+        xv, xunits, xtext = angle / float(ds.attrs["period_rad"]), "1", "ball passage period"
+    else:
+        if "time" not in ds:
+            raise ValueError("this table has no time axis: give shaft_speed, ball_diameter and pitch_diameter "
+                             "in [passage]")
+        xv, xunits, xtext = angle / (2 * math.pi * float(ds.attrs["cage_frequency_hz"])), "s", "time"
+    fx, ux = scale_units(xv, xunits, base_units)
+    if normalise == "none":
+        fy, uy = scale_units(values, units, base_units)
+        ylabel = axis_label(symbol(var), uy)
+    else:
+        ref = values[0] if normalise == "first" else np.nanmean(values[:-1])
+        if not np.isfinite(ref) or ref == 0:
+            raise ValueError(f"{var} is zero at this operating point; it cannot be normalised")
+        values, fy = values / ref, 1.0
+        ylabel = axis_label(symbol(var) + (r" / $k(\psi_c = 0)$" if normalise == "first" else " / mean"), "1")
+    return xv * fx, values * fy, axis_label(xtext, ux), ylabel, where
+
+
+def plot_passage(source, var=PAPER_ENTRIES, *, at=None, x: str = "angle", normalise: str = "none", out=None,
+                 overwrite: bool = False, size=None, dpi: int = DEFAULT_DPI, base_units: bool = False):
+    """Kb entries over one ball-pass period of a ball-passage table.
+
+    ``x``: ``"angle"`` (cage angle, rad), ``"period"`` (fraction of the
+    period, as in the paper) or ``"time"`` (s, tables with a shaft speed).
+    Normalised entries (``"first"``: by the value at position 0, the paper's
+    Figs. 13-14; ``"mean"``) share one panel; absolute entries get one panel
+    each. ``at`` picks the operating point (nearest value; default the first).
+    """
+    names = [var] if isinstance(var, str) else list(var)
+    if not names:
+        raise ValueError("var must name at least one variable")
+    if out is not None:
+        check_output(out, overwrite)
+    with _dataset(source, "passage") as ds:
+        curves = [passage_curve(ds, n, at=at, x=x, normalise=normalise, base_units=base_units) for n in names]
+        with style():
+            fig = new_figure(size, dpi)
+            shared = normalise != "none"
+            axes = fig.subplots(1 if shared else len(names), 1, sharex=True, squeeze=False)[:, 0]
+            for k, (name, (xv, yv, xl, yl, where)) in enumerate(zip(names, curves)):
+                ax = axes[0 if shared else k]
+                ax.plot(xv, yv, marker="o" if len(xv) <= 40 else None, label=symbol(name))
+                ax.set_ylabel(axis_label("k / k at position 0" if normalise == "first" else "k / mean over the period",
+                                         "1") if shared and len(names) > 1 else yl)
+            if shared and len(names) > 1:
+                axes[0].legend()
+            axes[-1].set_xlabel(curves[0][2])
+            where = curves[0][4]
+            axes[0].set_title(f"{_bearing_title(ds)}, one ball-pass period (Z = {ds.attrs['period_order']})"
+                              + (f"\nat {', '.join(where)}" if where else ""))
+            return _finish(fig, out, overwrite)
+
+
+def plot_spectrum(source, var=PAPER_ENTRIES, *, at=None, normalise: str = "mean", log: bool = True, out=None,
+                  overwrite: bool = False, size=None, dpi: int = DEFAULT_DPI, base_units: bool = False):
+    """Harmonic spectrum of Kb entries of a ball-passage table: amplitude A_h of harmonics h >= 1.
+
+    ``normalise="mean"`` shows A_h in % of the mean A_0 (all entries in one
+    panel); ``"none"`` shows A_h in the entry's units (one panel each). The
+    horizontal axis is the frequency (Hz) when the table has a shaft speed,
+    else the harmonic order of the ball-pass frequency.
+    """
+    if normalise not in ("none", "mean"):
+        raise ValueError(f"normalise must be 'none' or 'mean' for a spectrum, got {normalise!r}")
+    names = [var] if isinstance(var, str) else list(var)
+    if not names:
+        raise ValueError("var must name at least one variable")
+    if out is not None:
+        check_output(out, overwrite)
+    with _dataset(source, "passage") as ds:
+        for name in names:
+            if k_entry(name) is None:
+                raise ValueError(f"unknown variable {name!r} for a spectrum; use Kb entries such as kxx, kzz, ktyty")
+        H = ds.sizes["harmonic"] - 1
+        if H < 1:
+            raise ValueError("this table keeps no harmonics above the mean (harmonics = 0)")
+        has_f = "frequency" in ds
+        h = np.arange(1, H + 1)
+        xv = ds["frequency"].values[1:] if has_f else h.astype(float)
+        with style():
+            fig = new_figure(size, dpi)
+            shared = normalise == "mean"
+            axes = fig.subplots(1 if shared else len(names), 1, sharex=True, squeeze=False)[:, 0]
+            width = 0.8 / (len(names) if shared else 1)
+            step = float(xv[1] - xv[0]) if H > 1 else 1.0
+            where = []
+            for k, name in enumerate(names):
+                i, j = k_entry(name)
+                amp, _, where = select(ds, ds["K_amplitude"].isel(dof=i, dof_col=j), ("harmonic",), at, default="first")
+                a = amp.values
+                if shared:
+                    if a[0] == 0:
+                        raise ValueError(f"{name} has zero mean at this operating point; use normalise='none'")
+                    y, ylabel = a[1:] / abs(a[0]) * 100.0, axis_label("amplitude / mean", "%")
+                else:
+                    fy, uy = scale_units(a[1:], k_units(i, j), base_units)
+                    y, ylabel = a[1:] * fy, axis_label(f"amplitude of {symbol(name)}", uy)
+                ax = axes[0 if shared else k]
+                offset = (k - (len(names) - 1) / 2) * width * step if shared else 0.0
+                ax.bar(xv + offset, np.where(y > 0, y, np.nan) if log else y, width=width * step, label=symbol(name))
+                if log:
+                    ax.set_yscale("log")
+                ax.set_ylabel(ylabel)
+            if shared:
+                axes[0].legend()
+            axes[-1].set_xlabel(axis_label("frequency", "Hz") if has_f else
+                                axis_label("harmonic order of the ball-pass frequency", "1"))
+            axes[0].set_title(f"{_bearing_title(ds)}: harmonics of Kb over the ball passage"
+                              + (f"\nat {', '.join(where)}" if where else ""))
+            return _finish(fig, out, overwrite)
+
+
+# -- load zone ------------------------------------------------------------------------
+
+def plot_load_zone(bearing, q, *, title: str | None = None, out=None, overwrite: bool = False, size=None,
+                   dpi: int = DEFAULT_DPI):
+    """Polar plot of the ball loads Q (N) against azimuth psi (rad), one panel per row (the load zone).
+
+    Parameters
+    ----------
+    bearing : Bearing
+    q : sequence of 5 floats
+        Displacement (dx, dy, dz, bx, by) in mm and rad, e.g. ``fb.solve(bearing, f).q``.
+    title : str, optional
+        Figure title (default: the bearing and q).
+    """
+    from matplotlib.ticker import MaxNLocator
+
+    from .api import ball_loads
+    from .bearing import COS_PSI, ROW, SIN_PSI
+
+    if out is not None:
+        check_output(out, overwrite)
+    Q, alpha = ball_loads(bearing, q)
+    table = bearing.ball_table()
+    psi = np.mod(np.arctan2(table[SIN_PSI], table[COS_PSI]), 2 * np.pi)
+    row_of = table[ROW].astype(int)
+    n = bearing.n_rows
+    top = float(Q.max()) * 1.15 if Q.max() > 0 else 1.0
+    with style():
+        fig = new_figure(size or (max(450, 400 * min(n, 4)), 520 * math.ceil(n / 4)), dpi)
+        cols = min(n, 4)
+        for r, row in enumerate(bearing.rows):
+            ax = fig.add_subplot(math.ceil(n / cols), cols, r + 1, projection="polar")
+            sel = row_of == r
+            p, load = psi[sel], Q[sel]
+            order = np.argsort(p)
+            ring = np.append(p[order], p[order][0] + 2 * np.pi)
+            ax.fill(ring, np.append(load[order], load[order][0]), alpha=0.2, color="C0")
+            ax.plot(ring, np.append(load[order], load[order][0]), color="C0", linewidth=1.0)
+            for a, v in zip(p, load):
+                ax.plot([a, a], [0, v], color="C0", linewidth=1.2)
+            loaded = load > 0
+            ax.plot(p[loaded], load[loaded], "o", color="C0", markersize=5)
+            ax.plot(p, np.full(p.size, top), "o", color="0.6", markersize=3, clip_on=False)
+            ax.set_ylim(0, top)
+            ax.set_xticks(np.arange(8) * np.pi / 4)
+            ax.set_xticklabels(["0", r"$\pi/4$", r"$\pi/2$", r"$3\pi/4$", r"$\pi$", r"$5\pi/4$", r"$3\pi/2$",
+                                r"$7\pi/4$"])
+            ax.yaxis.set_major_locator(MaxNLocator(4))
+            ax.set_rlabel_position(22.5)
+            ax.tick_params(axis="y", labelsize=8)
+            ax.set_xlabel(axis_label(r"azimuth $\psi$ from x toward y", "rad") + ";  radius: ball load Q (N)",
+                          fontsize=8)
+            a_loaded = alpha[sel][loaded]
+            angles = (f"\ncontact angle {np.degrees(a_loaded.min()):.1f} to {np.degrees(a_loaded.max()):.1f} deg"
+                      if loaded.any() else "")
+            ax.set_title(f"row {r}: z = {row.axial_offset:g} mm, contact direction {row.contact_direction:+d}\n"
+                         f"{int(loaded.sum())} of {row.n_balls} balls loaded, max Q = {load.max():.4g} N"
+                         + angles, fontsize=9)
+        q = np.asarray(q, dtype=float)
+        # rounding noise of components that vanish by symmetry reads as 0
+        size_q = max(np.abs(q[:3]).max(), bearing.length_scale * np.abs(q[3:]).max(), 1e-300)
+        q = np.where(np.abs(q) < 1e-12 * size_q, 0.0, q)
+        fig.suptitle(title or f"Load zone of {bearing.name or 'bearing'} ({bearing.arrangement}) at q = "
+                     f"({q[0]:.4g}, {q[1]:.4g}, {q[2]:.4g}) mm, ({q[3]:.4g}, {q[4]:.4g}) rad", fontsize=10)
+        return _finish(fig, out, overwrite)
