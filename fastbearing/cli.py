@@ -93,6 +93,11 @@ def build_parser() -> argparse.ArgumentParser:
     m.add_argument("--resume", action="store_true", help="continue an interrupted run of the same config")
     m.add_argument("--overwrite", action="store_true", help="replace an existing output or unfinished run")
     m.add_argument("--no-progress", action="store_true", help="no progress bar even on a terminal")
+    m.add_argument("--dask", metavar="SPEC", help="run the blocks on Dask: local:N (a LocalCluster of N "
+                   "single-threaded worker processes) or tcp://HOST:PORT (a running scheduler); the output is "
+                   "identical to a local run (needs pip install 'fastbearing[dask]')")
+    m.add_argument("--in-flight", type=int, metavar="N", help="with --dask: blocks out on the cluster at once "
+                   "(default 2 per worker thread)")
     p = sub.add_parser("passage", help="ball-passage (time-varying) stiffness tables, to HDF5 (and CSV)",
                        description=(
                            "Rotate the ball set through one ball-pass period and tabulate Kb (and q) at every "
@@ -114,6 +119,34 @@ def build_parser() -> argparse.ArgumentParser:
                            "(pip install 'fastbearing[plot]')."))
     r.add_argument("--out", required=True, metavar="DIR", help="output folder (created if missing)")
     r.add_argument("--overwrite", action="store_true", help="replace existing figures and report")
+
+    sh = sub.add_parser("shaft", help="a rigid shaft on several bearings: equilibrium, K_system, frequencies",
+                        description=(
+                            "Solve the statically indeterminate equilibrium of a rigid shaft on the bearings of "
+                            "the [shaft] table of CONFIG.toml under its loads; print the shaft displacement and "
+                            "system stiffness at the reference point, and each bearing's reaction, displacement "
+                            "and Kb about its centre. With [shaft.mass], also the natural frequencies with the "
+                            "full Kb and with its diagonal only. Units: N, mm, rad; kg, kg*mm^2; Hz."))
+    sh.add_argument("config", metavar="CONFIG.toml", help="config with a [shaft] table")
+    sh.add_argument("--json", action="store_true", help="print one JSON object (q, K_system, bearings, "
+                    "frequencies)")
+    sh.add_argument("--method", choices=["newton", "broyden"], default="newton", help="solver (default newton)")
+    ex = sub.add_parser("export", help="write Kb for other tools: csv, json, npz, Nastran DMIG, ROSS",
+                        description=(
+                            "Export Kb from a `solve --json` or `shaft --json` output (.json) or from a load map "
+                            "or ball-passage file (.h5). DOF order x, y, z, tx, ty; units N/mm, N*mm/rad, N/rad "
+                            "(ROSS: SI, N/m). csv/json/npz take every case of a file; dmig and ross take one "
+                            "(--case, the flat case index)."))
+    ex.add_argument("source", metavar="SOURCE", help="a .json from solve/shaft --json, or a .h5 map or table")
+    ex.add_argument("--format", required=True, choices=["csv", "json", "npz", "dmig", "ross"], help="output format")
+    ex.add_argument("-o", "--output", required=True, metavar="OUT", help="output file")
+    ex.add_argument("--case", type=int, default=None, metavar="N", help="flat case index in a .h5 source")
+    ex.add_argument("--grid", type=int, default=1, metavar="ID", help="DMIG: grid of the inner ring (default 1)")
+    ex.add_argument("--ground-grid", type=int, default=None, metavar="ID",
+                    help="DMIG: second grid (outer ring); writes the 10x10 spring between the two")
+    ex.add_argument("--name", default="KBRG", help="DMIG matrix name (default KBRG)")
+    ex.add_argument("--node", type=int, default=0, metavar="N", help="ROSS: shaft node of the bearing")
+    ex.add_argument("--overwrite", action="store_true", help="replace an existing output file")
     return parser
 
 
@@ -260,14 +293,129 @@ def _passage(args) -> int:
     return 0
 
 
+def _shaft(args) -> int:
+    import json as _json
+
+    from .shaft import natural_frequencies, read_shaft, solve_shaft
+
+    shaft = read_shaft(args.config)
+    result = solve_shaft(shaft, method=args.method)
+    out = result.to_dict()
+    if shaft.inertia is not None:
+        M = shaft.inertia.matrix(shaft.reference)
+        out["frequencies_hz"] = natural_frequencies(result.K_system, M).frequencies.tolist()
+        out["frequencies_diagonal_only_hz"] = natural_frequencies(result.K_system, M, True).frequencies.tolist()
+    if args.json:
+        print(_json.dumps(out))
+        return 0 if result.solution.converged else 1
+    print(f"shaft: status {out['status']}; reference z = {shaft.reference:g} mm")
+    print("q at the reference (mm, mm, mm, rad, rad): " + "  ".join(f"{v:.6g}" for v in out["q"]))
+    print(_matrix("K_system at the reference", result.K_system))
+    for i, b in enumerate(result.bearings):
+        name = shaft.bearings[i].name or f"bearing {i}"
+        print(f"{name} at z = {b.position:g} mm: reaction (N, N, N, N*mm, N*mm) "
+              + "  ".join(f"{v:.6g}" for v in b.reaction))
+        print("  q (mm, rad): " + "  ".join(f"{v:.6g}" for v in b.q))
+        print("  Kb diagonal (N/mm, N/mm, N/mm, N*mm/rad, N*mm/rad): " + "  ".join(f"{v:.6g}" for v in np.diag(b.K)))
+    if "frequencies_hz" in out:
+        print("natural frequencies (Hz), full Kb:      " + "  ".join(f"{v:.1f}" for v in out["frequencies_hz"]))
+        print("natural frequencies (Hz), diagonal only: "
+              + "  ".join(f"{v:.1f}" for v in out["frequencies_diagonal_only_hz"]))
+    return 0 if result.solution.converged else 1
+
+
+def _matrix(title, K) -> str:
+    labels = ("x", "y", "z", "tx", "ty")
+    lines = [f"{title} ({_K_UNITS}):", "      " + "".join(f"{n:>14s}" for n in labels)]
+    for name, row in zip(labels, np.asarray(K)):
+        lines.append(f"{name:>4s}  " + "".join(f"{v:14.6g}" for v in row))
+    return "\n".join(lines)
+
+
+def _export(args) -> int:
+    import json as _json
+    from pathlib import Path
+
+    from . import export
+
+    source = Path(args.source)
+    if not source.exists():
+        raise ValueError(f"file not found: {source}")
+    extra = {}
+    if source.suffix.lower() == ".json":
+        try:
+            body = _json.loads(source.read_text())
+        except ValueError:
+            raise ValueError(f"{source} is not JSON from `fastbearing solve --json` or `shaft --json`") from None
+        key = "K" if "K" in body else "K_system" if "K_system" in body else None
+        if key is None:
+            raise ValueError(f"{source} has no K or K_system: use the output of `solve --json` or `shaft --json`")
+        K = np.array(body[key], dtype=float)
+        extra = {k: body[k] for k in ("q", "f", "status") if k in body}
+    elif source.suffix.lower() in (".h5", ".hdf5"):
+        import h5py
+
+        try:
+            with h5py.File(source, "r") as fh:
+                if "K" not in fh:
+                    raise ValueError(f"{source} is not a fastbearing map or table (no variable K)")
+                K = fh["K"][...].reshape(-1, 5, 5)
+        except OSError:
+            raise ValueError(f"{source} is not a readable HDF5 file") from None
+        if args.case is not None:
+            if not 0 <= args.case < len(K):
+                raise ValueError(f"--case must be in [0, {len(K) - 1}], got {args.case}")
+            K = K[args.case]
+    else:
+        raise ValueError(f"SOURCE must be a .json or .h5 file, got {source.name!r}")
+    out = Path(args.output)
+    if args.format in ("dmig", "ross") and np.ndim(K) == 3 and len(K) == 1:
+        K = K[0]
+    if args.format in ("dmig", "ross") and np.ndim(K) == 3:
+        raise ValueError(f"--format {args.format} takes one matrix: pick a case of {source.name} with --case N")
+    if args.format == "csv":
+        export.write_csv(out, K, overwrite=args.overwrite)
+    elif args.format == "json":
+        export.write_json(out, K, overwrite=args.overwrite, extra=extra)
+    elif args.format == "npz":
+        export.write_npz(out, K, overwrite=args.overwrite)
+    elif args.format == "dmig":
+        export.write_dmig(out, K, grid=args.grid, name=args.name, ground_grid=args.ground_grid,
+                          overwrite=args.overwrite)
+    else:
+        import warnings
+
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            export.write_ross(out, K, node=args.node, overwrite=args.overwrite)
+        for w in caught:
+            print(f"fastbearing: warning: {w.message}", file=sys.stderr)
+    print(f"fastbearing: wrote {out}", file=sys.stderr)
+    return 0
+
+
 def _loadmap(args) -> int:
     from .loadmap import loadmap
 
+    client = cluster = None
+    if args.dask:
+        if args.threads is not None:
+            raise ValueError("--threads is for local runs; with --dask each worker task uses one thread")
+        from .distributed import client_for
+
+        client, cluster = client_for(args.dask)
+    elif args.in_flight is not None:
+        raise ValueError("--in-flight goes with --dask")
     try:
         loadmap(args.config, args.output, threads=args.threads, resume=args.resume, overwrite=args.overwrite,
-                progress=False if args.no_progress else None)
+                progress=False if args.no_progress else None, client=client, max_in_flight=args.in_flight)
     except KeyboardInterrupt:
         return 130
+    finally:
+        if client is not None:
+            client.close()
+        if cluster is not None:
+            cluster.close()
     return 0
 
 
@@ -423,7 +571,7 @@ def main(argv=None) -> int:
     try:
         args = parser.parse_args(argv)
         return {"solve": _solve, "bearing": _bearing_command, "loadmap": _loadmap,
-                "passage": _passage, "plot": _plot, "paper": _paper}[args.command](args)
+                "passage": _passage, "plot": _plot, "paper": _paper, "shaft": _shaft, "export": _export}[args.command](args)
     except (_UsageError, ValueError) as err:
         print(f"fastbearing: error: {err}" if not str(err).startswith("fastbearing") else str(err),
               file=sys.stderr)

@@ -71,3 +71,29 @@ def test_never_overwrites_and_rejects_bad_input(tmp_path):
         ex.write_dmig(tmp_path / "x.dmig", K, grid=1, name="TOO_LONG_NAME")
     with pytest.raises(ValueError, match="one 5x5 matrix"):
         ex.write_dmig(tmp_path / "x.dmig", np.stack([K, K]), grid=1)
+
+
+def test_export_cli_from_solve_json_and_from_a_map(tmp_path):
+    import subprocess
+    import sys
+
+    def cli(*args):
+        return subprocess.run([sys.executable, "-m", "fastbearing.cli", *args], capture_output=True, text=True,
+                              timeout=120)
+
+    p = cli("solve", "--preset", "gunduz2013", "--arrangement", "DT", "--load", "1000,0,3000,0,-74000", "--json")
+    (tmp_path / "r.json").write_text(p.stdout)
+    assert cli("export", str(tmp_path / "r.json"), "--format", "dmig", "-o", str(tmp_path / "k.dmig"),
+               "--grid", "7").returncode == 0
+    assert ex.read_dmig(tmp_path / "k.dmig")[(7, 3, 7, 3)] == pytest.approx(K[2, 2], rel=1e-9)
+    r = cli("export", str(tmp_path / "r.json"), "--format", "ross", "-o", str(tmp_path / "r.ross"))
+    assert r.returncode == 0 and "dropped" in r.stderr
+    m = fb.loadmap({"bearing": {"preset": "gunduz2013", "arrangement": "DB"},
+                    "loadmap": {"Fx": [500.0, 1000.0], "Fz": 2000.0}}, tmp_path / "m.h5", progress=False)
+    assert cli("export", str(m), "--format", "npz", "-o", str(tmp_path / "m.npz")).returncode == 0
+    np.testing.assert_array_equal(np.load(tmp_path / "m.npz")["K"], fb.open_dataset(m)["K"].values)
+    one = cli("export", str(m), "--format", "dmig", "-o", str(tmp_path / "x.dmig"))
+    assert one.returncode == 2 and "--case" in one.stderr
+    assert cli("export", str(m), "--format", "dmig", "-o", str(tmp_path / "x.dmig"), "--case", "1").returncode == 0
+    again = cli("export", str(m), "--format", "npz", "-o", str(tmp_path / "m.npz"))
+    assert again.returncode == 2 and "exists" in again.stderr
