@@ -8,7 +8,6 @@ N*mm/rad (tilts) and N/rad (coupling), all at the bearing centre.
 from __future__ import annotations
 
 import contextlib
-import os
 from dataclasses import dataclass
 
 import numba

@@ -190,3 +190,27 @@ def load_bearing(path) -> Bearing:
     if "bearing" not in doc:
         raise ValueError(f"{path}: missing the [bearing] table")
     return bearing_from_table(doc["bearing"])
+
+
+def read_job_config(config, job: str):
+    """A ``[bearing]`` + ``[JOB]`` config (TOML path or parsed dict), checked the same way for every job.
+
+    Returns (bearing, the job's table, the config text, the source path or None).
+    """
+    import json
+
+    source = None
+    if isinstance(config, dict):
+        doc, text = config, json.dumps(config, sort_keys=True, default=str)
+    else:
+        source = Path(config)
+        doc, text = read_toml(source), source.read_text()
+    unknown = sorted(set(doc) - {"bearing", job})
+    if unknown:
+        raise ValueError(f"unknown top-level key(s) {unknown}; a {job} config holds [bearing] and [{job}]")
+    for table in ("bearing", job):
+        if table not in doc:
+            raise ValueError(f"missing the [{table}] table")
+    if not isinstance(doc[job], dict):
+        raise ValueError(f"{job} must be a table")
+    return bearing_from_table(doc["bearing"]), doc[job], text, source

@@ -20,9 +20,9 @@ from pathlib import Path
 import numpy as np
 
 from . import status as st, storage
-from .api import DISPLACEMENT_UNITS, LOAD_UNITS, num_threads, solver_settings
+from .api import num_threads, solver_settings
 from .bearing import ROW, Bearing
-from .bearing_file import bearing_from_table, read_toml
+from .bearing_file import read_job_config
 from .grid import AXES, LONG_NAMES, UNITS, Axis, CaseSet, parse_axis, plan_blocks, read_case_file
 from .sweep import map_sweep
 
@@ -48,24 +48,7 @@ class LoadMapConfig:
 
 def read_config(config) -> LoadMapConfig:
     """Parse a load-map config from a TOML path or an already-parsed dict; ValueError names the field."""
-    source = None
-    if isinstance(config, dict):
-        doc = config
-        text = json.dumps(config, sort_keys=True, default=str)
-    else:
-        source = Path(config)
-        doc = read_toml(source)
-        text = source.read_text()
-    unknown = sorted(set(doc) - {"bearing", "loadmap"})
-    if unknown:
-        raise ValueError(f"unknown top-level key(s) {unknown}; a load-map config holds [bearing] and [loadmap]")
-    for table in ("bearing", "loadmap"):
-        if table not in doc:
-            raise ValueError(f"missing the [{table}] table")
-    bearing = bearing_from_table(doc["bearing"])
-    spec = doc["loadmap"]
-    if not isinstance(spec, dict):
-        raise ValueError("loadmap must be a table")
+    bearing, spec, text, source = read_job_config(config, "loadmap")
     given = spec.get("given", "load")
     if given not in AXES:
         raise ValueError(f"loadmap.given must be 'load' or 'displacement', got {given!r}")

@@ -26,7 +26,7 @@ import numpy as np
 from . import storage
 from .api import num_threads, solver_settings
 from .bearing import ROW, Bearing
-from .bearing_file import bearing_from_table, read_toml
+from .bearing_file import read_job_config
 from .grid import AXES, LONG_NAMES, UNITS, Axis, CaseSet, parse_axis, plan_blocks
 from .sweep import passage_sweep
 
@@ -103,20 +103,7 @@ def _positive_key(spec: dict, key: str) -> float:
 
 def read_config(config) -> PassageConfig:
     """Parse a ``[bearing]`` + ``[passage]`` config from a TOML path or a dict; ValueError names the field."""
-    source = None
-    if isinstance(config, dict):
-        doc, text = config, json.dumps(config, sort_keys=True, default=str)
-    else:
-        source = Path(config)
-        doc, text = read_toml(source), source.read_text()
-    unknown = sorted(set(doc) - {"bearing", "passage"})
-    if unknown:
-        raise ValueError(f"unknown top-level key(s) {unknown}; a passage config holds [bearing] and [passage]")
-    for table in ("bearing", "passage"):
-        if table not in doc:
-            raise ValueError(f"missing the [{table}] table")
-    bearing = bearing_from_table(doc["bearing"])
-    spec = doc["passage"]
+    bearing, spec, text, source = read_job_config(config, "passage")
     given = spec.get("given", "displacement")
     if given not in AXES:
         raise ValueError(f"passage.given must be 'displacement' or 'load', got {given!r}")

@@ -10,7 +10,6 @@ Nothing raises: the outcome is a status from :mod:`fastbearing.status`.
 
 import math
 
-import numpy as np
 from numba import njit
 
 from .config import CACHE, ERROR_MODEL, FASTMATH

@@ -2,7 +2,6 @@
 solve, HDF5/xarray layout, and safety (overwrite, kill and resume, Ctrl-C, memory)."""
 
 import json
-import os
 import signal
 import subprocess
 import sys
