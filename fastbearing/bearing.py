@@ -286,11 +286,16 @@ class Bearing:
 ROW_KEYS = tuple(f.name for f in fields(Row))
 
 
+def check_keys(table: dict, allowed, where: str) -> None:
+    """ValueError naming ``where`` when ``table`` has keys outside ``allowed`` (config files are strict)."""
+    unknown = sorted(set(table) - set(allowed))
+    if unknown:
+        raise ValueError(f"{where}: unknown key(s) {unknown}; allowed: {sorted(allowed)}")
+
+
 def _row(values: dict, where: str) -> Row:
     """Build a Row, naming where it came from in any error."""
-    unknown = sorted(set(values) - set(ROW_KEYS))
-    if unknown:
-        raise ValueError(f"{where}: unknown key(s) {unknown}; allowed: {list(ROW_KEYS)}")
+    check_keys(values, ROW_KEYS, where)
     missing = [k for k in ("n_balls", "hertz_constant", "pitch_radius", "groove_center_distance", "contact_angle") if k not in values]
     if missing:
         raise ValueError(f"{where}: missing required key(s) {missing}")

@@ -14,7 +14,7 @@ from dataclasses import replace
 from importlib import resources
 from pathlib import Path
 
-from .bearing import ARRANGEMENTS, ROW_KEYS, Bearing, _per_row, _row
+from .bearing import ARRANGEMENTS, ROW_KEYS, Bearing, check_keys, _per_row, _row
 from .geometry import geometry_from_table
 
 _SHARED_KEYS = ("n_balls", "hertz_constant", "pitch_radius", "groove_center_distance", "contact_angle",
@@ -52,9 +52,7 @@ def bearing_from_table(table: dict, where: str = "bearing") -> Bearing:
     """Build a :class:`Bearing` from a parsed ``[bearing]`` table; ValueError names the offending key."""
     if not isinstance(table, dict):
         raise ValueError(f"{where} must be a table, got {type(table).__name__}")
-    unknown = sorted(set(table) - _TABLE_KEYS)
-    if unknown:
-        raise ValueError(f"{where}: unknown key(s) {unknown}; allowed: {sorted(_TABLE_KEYS)}")
+    check_keys(table, _TABLE_KEYS, where)
     table = dict(table)
     if "geometry" in table:
         return _geometry_bearing(table, where)
@@ -101,9 +99,7 @@ def _rows_bearing(table: dict, where: str, name: str) -> Bearing:
     for i, r in enumerate(rows):
         if not isinstance(r, dict):
             raise ValueError(f"{where}.rows[{i}] must be a table")
-        unknown = sorted(set(r) - set(ROW_KEYS))
-        if unknown:
-            raise ValueError(f"{where}.rows[{i}]: unknown key(s) {unknown}; allowed: {list(ROW_KEYS)}")
+        check_keys(r, ROW_KEYS, f"{where}.rows[{i}]")
         built.append({**defaults, "axial_preload": preloads[i], **r})
     try:
         return Bearing.from_rows(built, name=name)

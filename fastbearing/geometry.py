@@ -49,7 +49,7 @@ from dataclasses import dataclass, fields, replace
 
 import numpy as np
 
-from .bearing import Bearing, _check_finite
+from .bearing import Bearing, _check_finite, check_keys
 
 ELLIPTICITY_METHODS = ("exact", "hamrock-brewe")
 
@@ -547,9 +547,7 @@ def geometry_from_table(table: dict, where: str = "bearing.geometry") -> Geometr
     """
     if not isinstance(table, dict):
         raise ValueError(f"{where} must be a table, got {type(table).__name__}")
-    unknown = sorted(set(table) - set(GEOMETRY_KEYS))
-    if unknown:
-        raise ValueError(f"{where}: unknown key(s) {unknown}; allowed: {list(GEOMETRY_KEYS)}")
+    check_keys(table, GEOMETRY_KEYS, where)
     missing = [k for k in _REQUIRED if k not in table]
     if missing:
         raise ValueError(f"{where}: missing required key(s) {missing}")

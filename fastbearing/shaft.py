@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from .api import SolveResult, solve, stiffness
-from .bearing import Bearing
+from .bearing import Bearing, check_keys
 from .bearing_file import bearing_from_table, load_bearing, read_toml
 
 
@@ -221,16 +221,12 @@ def read_shaft(config) -> Shaft:
         raise ValueError(f"a shaft config holds one [shaft] table; unknown {unknown}" if unknown
                          else "missing the [shaft] table")
     spec = config["shaft"]
-    unknown = sorted(set(spec) - _SHAFT_KEYS)
-    if unknown:
-        raise ValueError(f"shaft: unknown key(s) {unknown}; allowed: {sorted(_SHAFT_KEYS)}")
+    check_keys(spec, _SHAFT_KEYS, "shaft")
     reference = _number("shaft.reference", spec.get("reference", 0.0))
     bearings = []
     for i, b in enumerate(spec.get("bearings", [])):
         where = f"shaft.bearings[{i}]"
-        unknown = sorted(set(b) - _BEARING_KEYS)
-        if unknown:
-            raise ValueError(f"{where}: unknown key(s) {unknown}; allowed: {sorted(_BEARING_KEYS)}")
+        check_keys(b, _BEARING_KEYS, where)
         if "position" not in b or "bearing" not in b:
             raise ValueError(f"{where} needs position (mm) and bearing (a file or an inline table)")
         source = b["bearing"]
@@ -249,9 +245,7 @@ def read_shaft(config) -> Shaft:
     loads = []
     for i, p in enumerate(spec.get("loads", [])):
         where = f"shaft.loads[{i}]"
-        unknown = sorted(set(p) - _LOAD_KEYS)
-        if unknown:
-            raise ValueError(f"{where}: unknown key(s) {unknown}; allowed: {sorted(_LOAD_KEYS)}")
+        check_keys(p, _LOAD_KEYS, where)
         loads.append(PointLoad(_number(f"{where}.position", p.get("position", 0.0)),
                                _vector(f"{where}.force", p.get("force", [0.0, 0.0, 0.0]), 3),
                                _vector(f"{where}.moment", p.get("moment", [0.0, 0.0]), 2)))

@@ -280,7 +280,8 @@ def test_ctrl_c_stops_quickly_and_leaves_a_resumable_file(tmp_path):
     sent = time.time()
     proc.send_signal(signal.SIGINT)
     _, err = proc.communicate(timeout=30)
-    assert time.time() - sent < 2.0
+    # the responsiveness contract (a block here takes ~20 ms), with slack for a slow CI machine
+    assert time.time() - sent < 5.0
     assert proc.returncode == 130 and "--resume" in err and "Traceback" not in err
     assert not out.exists()
     loadmap(cfg, out, resume=True, progress=False)
