@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import csv
 import json
+import os
 import warnings
 from pathlib import Path
 
@@ -26,6 +27,17 @@ def _check_output(path: Path, overwrite: bool) -> None:
         raise ValueError(f"{path} exists; pass --overwrite (overwrite=True) to replace it")
 
 
+def _publish(path: Path, write) -> Path:
+    """Run ``write(tmp)`` on a temporary name beside ``path``, then rename: never a half-written file."""
+    tmp = path.with_name(path.name + ".part")
+    try:
+        write(tmp)
+        os.replace(tmp, path)
+    finally:
+        tmp.unlink(missing_ok=True)
+    return path
+
+
 def _as_matrices(K) -> np.ndarray:
     K = np.asarray(K, dtype=float)
     if K.shape[-2:] != (5, 5):
@@ -41,13 +53,15 @@ def write_csv(path, K, overwrite=False) -> Path:
     _check_output(path, overwrite)
     Ks = _as_matrices(K)
     header = ["case"] + [f"k_{a}{b}" for a in DOF for b in DOF]
-    with path.open("w", newline="") as fh:
-        fh.write(f"# fastbearing Kb, DOF order {', '.join(DOF)}; units: {UNITS}\n")
-        w = csv.writer(fh)
-        w.writerow(header)
-        for i, k in enumerate(Ks):
-            w.writerow([i] + [repr(float(v)) for v in k.ravel()])
-    return path
+
+    def write(tmp):
+        with tmp.open("w", newline="") as fh:
+            fh.write(f"# fastbearing Kb, DOF order {', '.join(DOF)}; units: {UNITS}\n")
+            w = csv.writer(fh)
+            w.writerow(header)
+            for i, k in enumerate(Ks):
+                w.writerow([i] + [repr(float(v)) for v in k.ravel()])
+    return _publish(path, write)
 
 
 def read_csv(path) -> np.ndarray:
@@ -62,17 +76,17 @@ def write_json(path, K, overwrite=False, extra: dict | None = None) -> Path:
     Ks = _as_matrices(K)
     body = {"dof": list(DOF), "units": UNITS, "K": Ks[0].tolist() if np.ndim(K) == 2 else Ks.tolist()}
     body.update(extra or {})
-    path.write_text(json.dumps(body, indent=1))
-    return path
+    return _publish(path, lambda tmp: tmp.write_text(json.dumps(body, indent=1)))
 
 
 def write_npz(path, K, overwrite=False, **arrays) -> Path:
     """NumPy .npz with K, dof (names) and units (text), plus any other arrays given."""
     path = Path(path)
     _check_output(path, overwrite)
-    with path.open("wb") as fh:
-        np.savez(fh, K=np.asarray(K, dtype=float), dof=np.array(DOF), units=np.array(UNITS), **arrays)
-    return path
+    def write(tmp):
+        with tmp.open("wb") as fh:
+            np.savez(fh, K=np.asarray(K, dtype=float), dof=np.array(DOF), units=np.array(UNITS), **arrays)
+    return _publish(path, write)
 
 
 def _dmig_real(value: float) -> str:
@@ -119,8 +133,7 @@ def write_dmig(path, K, grid: int, name: str = "KBRG", ground_grid: int | None =
         lines.append(f"DMIG*   {name:<16s}{gj:>16d}{cj:>16d}")
         for gi, ci, a in entries:
             lines.append(f"*       {gi:>16d}{ci:>16d}{_dmig_real(a)}")
-    path.write_text("\n".join(lines) + "\n")
-    return path
+    return _publish(path, lambda tmp: tmp.write_text("\n".join(lines) + "\n"))
 
 
 def read_dmig(path) -> dict:
@@ -161,5 +174,5 @@ def write_ross(path, K, node: int = 0, overwrite=False) -> Path:
     """The :func:`ross_arguments` as JSON, for ``ross.BearingElement(**args)`` (drop the units key)."""
     path = Path(path)
     _check_output(path, overwrite)
-    path.write_text(json.dumps(ross_arguments(K, node), indent=1))
-    return path
+    args = ross_arguments(K, node)
+    return _publish(path, lambda tmp: tmp.write_text(json.dumps(args, indent=1)))
