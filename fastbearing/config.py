@@ -16,12 +16,26 @@ KERNEL_FASTMATH = {"reassoc", "contract", "nsz", "arcp"}
 ERROR_MODEL = "numpy"
 CACHE = True
 
-#: Relative residual at which a load-given solve is declared converged.
+#: Relative residual at which a load-given solve is declared converged, and its allowed range.
 RTOL = 1e-10
-#: Newton iterations per attempt (each costs one kernel evaluation or a few
-#: when the line search backtracks).
+RTOL_RANGE = (1e-14, 1e-3)
+#: Iterations per solver phase (each costs one kernel evaluation, or a few when
+#: the line search backtracks), and the allowed range of a user's max_iter.
 MAX_ITER_NEWTON = 60
-#: Broyden iterations per attempt (secant steps are cheaper but slower to converge).
 MAX_ITER_BROYDEN = 300
+MAX_ITER_RANGE = (1, 10_000)
+#: The fast phase hands a case to the fallback after this many iterations
+#: without halving the residual.
+STAGNATION_ITERATIONS = 12
+#: Fallback line search: trials per direction, and its acceptance |phi'(t)| <= SEARCH_CURVATURE |phi'(0)|
+#: on the descending side.
+SEARCH_TRIALS = 40
+SEARCH_CURVATURE = 0.5
+#: Fallback smoothing continuation: eps from SMOOTHING_FIRST * A0 down by SMOOTHING_RATIO per level to
+#: SMOOTHING_LAST * A0, each level solved to SMOOTHING_RTOL, then the exact contact law.
+SMOOTHING_FIRST = 1.0
+SMOOTHING_RATIO = 0.1
+SMOOTHING_LAST = 1e-7
+SMOOTHING_RTOL = 1e-6
 #: Cases per block in parallel sweeps: per-block scratch is allocated once.
 SWEEP_BLOCK = 64

@@ -25,6 +25,29 @@ def contact_law(delta, kn, exponent, j):
     """Ball load Q = Kn*delta^n and its slope dQ/d(delta) (N, N/mm) for ball j."""
 
 
+def clamped_deflection(d, smoothing):
+    """Deflection delta >= 0 from the signed approach d (mm), and d(delta)/dd.
+
+    ``smoothing`` None: the contact law's own max(d, 0). A float eps (mm):
+    the smooth (d + sqrt(d^2 + eps^2))/2, which the solver's continuation
+    uses to remove the kink at first contact (every ball carries a little
+    load, so Kb is never singular); eps -> 0 recovers max(d, 0).
+    """
+
+
+@overload(clamped_deflection, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def _clamped_deflection(d, smoothing):
+    if isinstance(smoothing, types.NoneType):
+        def exact(d, smoothing):
+            return max(d, 0.0), 1.0
+        return exact
+
+    def smooth(d, smoothing):
+        root = math.sqrt(d * d + smoothing * smoothing)
+        return 0.5 * (d + root), 0.5 * (1.0 + d / root)
+    return smooth
+
+
 @overload(contact_law, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
 def _contact_law(delta, kn, exponent, j):
     # chosen while typing, from the exponent's type: no branch in the ball loop
@@ -56,10 +79,12 @@ def ball_loop(q, balls, f, K, ball_load, contact_angle):
     ----------
     q : (5,) float64
         (dx, dy, dz, bx, by) in mm and rad at the bearing centre.
-    balls : tuple (table, exponent)
+    balls : tuple (table, exponent, smoothing)
         ``table`` (12, n_balls) float64, column-major per-ball data from
         :meth:`fastbearing.Bearing.ball_set`; ``exponent`` None (all balls
-        n = 1.5) or (n_balls,) float64 per-ball exponents.
+        n = 1.5) or (n_balls,) float64 per-ball exponents; ``smoothing``
+        None (the exact contact law) or eps in mm (see
+        :func:`clamped_deflection`).
     f : (5,) float64, out
         (Fx, Fy, Fz, Mx, My) on the inner ring in N and N*mm.
     K : (5, 5) float64 or None, out
@@ -78,7 +103,7 @@ def ball_loop(q, balls, f, K, ball_load, contact_angle):
         Loaded balls whose contact angle has the opposite sign to their
         row's contact direction.
     """
-    table, exponent = balls
+    table, exponent, smoothing = balls
     cos_psi = table[0]
     sin_psi = table[1]
     offset = table[2]
@@ -117,8 +142,9 @@ def ball_loop(q, balls, f, K, ball_load, contact_angle):
         gap2 = gap[j] + dr * (2.0 * ur0[j] + dr) + dzb * (2.0 * uz0[j] + dzb)
         A_plus = A + a0[j]
         inv = 1.0 / max(A * A_plus, 1e-300)  # one division gives both 1/A and 1/(A + A0)
-        delta = max(gap2 * (A * inv), 0.0)
+        delta, slope = clamped_deflection(gap2 * (A * inv), smoothing)
         Q, dQ = contact_law(delta, kn[j], exponent, j)
+        dQ *= slope
         loaded = delta > 0.0
         n_loaded += loaded
         n_reversed += loaded & (direction[j] * uz < 0.0)

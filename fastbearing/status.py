@@ -8,11 +8,19 @@ CONVERGED = 0
 #: f = 0 without preload: q = 0, f = 0, Kb = 0 is the exact answer.
 UNLOADED = 1
 ITERATION_LIMIT = 2
-#: Kb has no usable direction (no loaded ball) and no progress is possible.
+#: The load has a direction the bearing does not hold (a row of fewer than
+#: three balls can leave one): the energy falls without end along it.
 SINGULAR = 3
 NONFINITE_INPUT = 4
 #: The line search could not reduce the residual any further.
 STALLED = 5
+#: The residual reached the rounding floor of this case (the float64 sum of
+#: the ball forces, or the resolution of q), which lies above rtol times the
+#: target: q is as accurate as float64 allows, but not to rtol (tiny loads on
+#: a preloaded bearing, say). Not converged; the residual says how close.
+PRECISION_LIMIT = 6
+#: f or Kb came out inf or nan (a displacement or load too large for float64).
+NONFINITE_RESULT = 7
 
 #: Warning bit: at the solution a loaded ball's contact angle has the opposite
 #: sign to its row's contact direction (the ring may have no shoulder there).
@@ -27,6 +35,8 @@ NAMES = {
     SINGULAR: "singular",
     NONFINITE_INPUT: "nonfinite_input",
     STALLED: "stalled",
+    PRECISION_LIMIT: "precision_limit",
+    NONFINITE_RESULT: "nonfinite_result",
 }
 
 

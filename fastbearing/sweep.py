@@ -12,23 +12,22 @@ from .config import CACHE, ERROR_MODEL
 from .kernel import ball_loop
 from .linalg import cholesky_solve
 from .solver import WORK_ROWS, solve_case
+from .status import CONVERGED, NONFINITE_RESULT
 
 
 @njit(parallel=True, cache=CACHE, error_model=ERROR_MODEL)
-def solve_sweep(f_targets, q, f, K, status, iterations, residual, evaluations, balls, method, warm, rtol,
-                max_iter, length_scale, force_floor, max_step, block):
+def solve_sweep(f_targets, q, f, K, status, iterations, residual, evaluations, balls, settings, warm, block):
     """Solve every row of ``f_targets`` (N, 5); q (N, 5) holds warm starts when ``warm``."""
     n = f_targets.shape[0]
     n_blocks = (n + block - 1) // block
     for b in prange(n_blocks):
         work = np.empty((WORK_ROWS, 5))
         for i in range(b * block, min(n, (b + 1) * block)):
-            st, it, res, ev = solve_case(f_targets[i], q[i], f[i], K[i], balls, method, warm, rtol, max_iter,
-                                         length_scale, force_floor, max_step, work, None, None)
-            status[i] = st
-            iterations[i] = it
-            residual[i] = res
-            evaluations[i] = ev
+            out = solve_case(f_targets[i], q[i], f[i], K[i], balls, settings, warm, work, None, None)
+            status[i] = out.status
+            iterations[i] = out.iterations
+            residual[i] = out.residual
+            evaluations[i] = out.evaluations
 
 
 @njit(parallel=True, cache=CACHE, error_model=ERROR_MODEL)
@@ -74,20 +73,31 @@ MAP_GROUPS = 64
 
 
 @njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True)
-def operating_point(given_load, inputs, warm, q, f, K, balls, method, rtol, max_iter, length_scale, force_floor,
-                    max_step, work, ball_load, contact_angle):
+def operating_point(given_load, inputs, warm, q, f, K, balls, settings, work, ball_load, contact_angle):
     """One case of a map or a ball-passage table: solve for q (load given) or substitute q.
 
     Returns (status, iterations, residual); fills q, f, K and the per-ball record.
+    A substitution whose f or Kb is not finite gets NONFINITE_RESULT.
     """
     if given_load:
-        st, it, res, ev = solve_case(inputs, q, f, K, balls, method, warm, rtol, max_iter, length_scale,
-                                     force_floor, max_step, work, ball_load, contact_angle)
-        return st, it, res
+        out = solve_case(inputs, q, f, K, balls, settings, warm, work, ball_load, contact_angle)
+        return out.status, out.iterations, out.residual
     for d in range(5):
         q[d] = inputs[d]
     ball_loop(q, balls, f, K, ball_load, contact_angle)
-    return 0, 0, 0.0
+    return substitution_status(f, K), 0, 0.0
+
+
+@njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True)
+def substitution_status(f, K):
+    """CONVERGED for a finite f and Kb from direct substitution, NONFINITE_RESULT otherwise."""
+    for i in range(5):
+        if not np.isfinite(f[i]):
+            return NONFINITE_RESULT
+        for j in range(5):
+            if not np.isfinite(K[i, j]):
+                return NONFINITE_RESULT
+    return CONVERGED
 
 
 @njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True)
@@ -116,7 +126,7 @@ def tangent_predictor(given_load, target, q_prev, f_prev, K_prev, q, scratch):
 
 @njit(parallel=True, cache=CACHE, error_model=ERROR_MODEL, nogil=True)
 def map_sweep(inputs, given_load, line_length, q, f, K, status, iterations, residual, max_load, n_loaded,
-              min_angle, max_angle, balls, ball_row, method, rtol, max_iter, length_scale, force_floor, max_step):
+              min_angle, max_angle, balls, ball_row, settings):
     """One block of a load or displacement map, in place.
 
     ``balls`` is the bearing's ball set. ``inputs`` (N, 5) are loads (N, N*mm) when ``given_load`` else
@@ -140,15 +150,14 @@ def map_sweep(inputs, given_load, line_length, q, f, K, status, iterations, resi
                 if warm:
                     tangent_predictor(given_load, inputs[i], q[i - 1], f[i - 1], K[i - 1], q[i], predictor)
                 status[i], iterations[i], residual[i] = operating_point(
-                    given_load, inputs[i], warm, q[i], f[i], K[i], balls, method, rtol, max_iter, length_scale,
-                    force_floor, max_step, work, ball_load, contact_angle)
+                    given_load, inputs[i], warm, q[i], f[i], K[i], balls, settings, work, ball_load, contact_angle)
                 row_summary(ball_load, contact_angle, ball_row, max_load[i], n_loaded[i], min_angle[i],
                             max_angle[i])
 
 
 @njit(parallel=True, cache=CACHE, error_model=ERROR_MODEL, nogil=True)
 def passage_sweep(inputs, given_load, tables, exponent, q, f, K, status, iterations, residual, max_load, n_loaded,
-                  min_angle, max_angle, ball_row, method, rtol, max_iter, length_scale, force_floor, max_step):
+                  min_angle, max_angle, ball_row, settings):
     """Ball-passage tables, in place: every operating point at every cage position.
 
     ``tables`` (P, 12, n_balls) holds the ball table at each of P cage
@@ -171,7 +180,7 @@ def passage_sweep(inputs, given_load, tables, exponent, q, f, K, status, iterati
                     for d in range(5):
                         q[i, p, d] = q[i, p - 1, d]
                 status[i, p], iterations[i, p], residual[i, p] = operating_point(
-                    given_load, inputs[i], warm, q[i, p], f[i, p], K[i, p], (tables[p], exponent), method, rtol, max_iter,
-                    length_scale, force_floor, max_step, work, ball_load, contact_angle)
+                    given_load, inputs[i], warm, q[i, p], f[i, p], K[i, p], (tables[p], exponent, None), settings,
+                    work, ball_load, contact_angle)
                 row_summary(ball_load, contact_angle, ball_row, max_load[i, p], n_loaded[i, p], min_angle[i, p],
                             max_angle[i, p])

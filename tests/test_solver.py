@@ -6,6 +6,7 @@ from conftest import PAPER_LOADS
 
 import fastbearing as fb
 from fastbearing import status as st
+from fastbearing.api import solver_settings
 from fastbearing.solver import WORK_ROWS, solve_case
 
 KILO = np.array([1e3, 1e3, 1e3, 1e6, 1e6])  # kN/mm and MN*mm/rad, as the paper prints them
@@ -24,7 +25,7 @@ def assert_round_trip(bearing, f_target, result, rtol=1e-10):
     """The returned q really produces the load, and f/K are the values at q."""
     f, K = fb.stiffness(bearing, result.q)
     assert np.array_equal(f, result.f) and np.array_equal(K, result.K)
-    scale = max(np.abs(np.asarray(f_target) * D).max(), bearing.preload_force)
+    scale = np.abs(np.asarray(f_target) * D).max()
     assert np.abs((f - f_target) * D).max() <= rtol * scale * 1.0001
 
 
@@ -93,7 +94,7 @@ def test_random_combined_loads_converge_and_round_trip(arrangement, variant, rng
     r = fb.solve_many(bearing, F)
     assert r.converged.all(), np.bincount(r.status & st.OUTCOME_MASK)
     f, _ = fb.stiffness_many(bearing, r.q)
-    scale = np.maximum(np.abs(F * D).max(1), bearing.preload_force)
+    scale = np.abs(F * D).max(1)
     assert np.all(np.abs((f - F) * D).max(1) <= 1.0001 * 1e-10 * scale)
     assert np.all(r.residual <= 1e-10)
 
@@ -162,9 +163,42 @@ def test_nonfinite_input_returns_status_inside_kernel():
     """The njit solver never raises: a nan load comes back as a status."""
     bearing = fb.Bearing.preset("gunduz2013", "DB")
     q, f, K = np.zeros(5), np.empty(5), np.empty((5, 5))
-    code, it, res, ev = solve_case(np.array([np.nan, 0, 0, 0, 0]), q, f, K, bearing.ball_set(), 0, False, 1e-10,
-                                   50, 34.75, 0.0, 0.26, np.empty((WORK_ROWS, 5)), None, None)
-    assert code == st.NONFINITE_INPUT and np.isnan(q).all()
+    out = solve_case(np.array([np.nan, 0, 0, 0, 0]), q, f, K, bearing.ball_set(), solver_settings(bearing), False,
+                     np.empty((WORK_ROWS, 5)), None, None)
+    assert out.status == st.NONFINITE_INPUT and np.isnan(q).all()
+
+
+def test_load_too_large_for_float64_is_nonfinite_result_not_converged():
+    r = fb.solve(fb.Bearing.preset("gunduz2013", "DB"), [1e305, 0, 0, 0, 0])
+    assert st.outcome(r.status) in (st.NONFINITE_RESULT, st.ITERATION_LIMIT, st.STALLED) and not r.converged
+
+
+def test_rtol_and_max_iter_are_bounded():
+    bearing = fb.Bearing.preset("gunduz2013", "DB")
+    for bad in (10, 0.0, -1e-8, 1e-20, "x", True, float("nan")):
+        with pytest.raises(ValueError, match=r"rtol must be a number in \[1e-14, 0.001\]"):
+            fb.solve(bearing, PAPER_LOADS["table4"], rtol=bad)
+    for bad in (0, 2.5, 1e30, "60", True):
+        with pytest.raises(ValueError, match=r"max_iter must be an integer in \[1, 10000\]"):
+            fb.solve(bearing, PAPER_LOADS["table4"], max_iter=bad)
+    assert fb.solve(bearing, PAPER_LOADS["table4"], rtol=1e-6, max_iter=20.0).converged
+
+
+def test_tiny_loads_on_a_preloaded_bearing_are_never_falsely_converged():
+    """Loads far below the preload: each case converges to rtol of its own load or says precision_limit
+    (issue 18: the tolerance used to scale with the preload force, so 1e-5 N came back 3 % short)."""
+    bearing = fb.Bearing.preset("gunduz2013", "DB", axial_preload=0.01)
+    r = fb.solve(bearing, [0, 0, 1e-5, 0, 1e-4])
+    assert r.status_name == "precision_limit" and not r.converged
+    f, _ = fb.stiffness(bearing, r.q)
+    assert abs(f[2] - 1e-5) < 1e-9 and r.residual < 1e-3          # as close as float64 gets: 1e-10 N
+    loads = np.random.default_rng(1).uniform(-1, 1, (400, 5)) * 10 ** np.random.default_rng(2).uniform(-6, 0, (400, 1))
+    res = fb.solve_many(bearing, loads)
+    ok = res.converged
+    scale = np.abs(loads * D).max(1)
+    f, _ = fb.stiffness_many(bearing, res.q)
+    assert np.all(np.abs((f - loads) * D).max(1)[ok] <= 1.0001e-10 * scale[ok])
+    assert set(np.unique(res.status & st.OUTCOME_MASK)) <= {st.CONVERGED, st.PRECISION_LIMIT}
 
 
 def test_solve_many_matches_solve_and_is_thread_independent(rng):
@@ -181,19 +215,20 @@ def test_solve_many_matches_solve_and_is_thread_independent(rng):
 
 @pytest.mark.parametrize("arrangement, extra", [("DT", {}), ("DB", {"radial_clearance": 0.01}),
                                                 ("DF", {"axial_preload": 0.01})])
-def test_load_stepping_fallback_converges_on_its_own(arrangement, extra):
-    """The continuation fallback (tau*f, tau -> 1) reaches the same solution as the main path."""
-    from fastbearing.api import solver_settings
-    from fastbearing.solver import _D, _FC, _continuation
+def test_energy_fallback_converges_on_its_own(arrangement, extra):
+    """The fallback (energy minimisation with the contact law smoothed, eps -> 0), run alone from a cold
+    start, reaches the same solution as the main path."""
+    from fastbearing.solver import _D, _cold_start, _smoothing_continuation
 
     bearing = fb.Bearing.preset("gunduz2013", arrangement, **extra)
     load = np.array(PAPER_LOADS["table4"])
-    o = solver_settings(bearing)
+    settings = solver_settings(bearing)
     work = np.empty((WORK_ROWS, 5))
-    work[_D] = [1, 1, 1, 1 / o["length_scale"], 1 / o["length_scale"]]
+    work[_D] = D
     q, f, K = np.zeros(5), np.empty(5), np.empty((5, 5))
-    scale = max(np.abs(load * work[_D]).max(), o["force_floor"])
-    code, it, res, ev, n_rev = _continuation(load, q, f, K, bearing.ball_set(), 0, scale, o["rtol"], o["max_iter"],
-                                      work[_D], o["max_step"], work[_FC], work)
-    assert code == st.CONVERGED
+    _cold_start(load, q, f, K, bearing.ball_set(), work[_D], settings.max_step)
+    tol = settings.rtol * np.abs(load * D).max()
+    status, *_ = _smoothing_continuation(load, q, f, K, bearing.ball_set(), settings, tol, 1 + 10 / 34.75, 0.52,
+                                         work[_D], work)
+    assert status == st.CONVERGED
     np.testing.assert_allclose(q, fb.solve(bearing, load).q, rtol=1e-8, atol=1e-12)
