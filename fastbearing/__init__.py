@@ -18,10 +18,11 @@ ensure_fresh()
 from . import status
 from .api import (SolveManyResult, SolveResult, ball_loads, num_threads, solve, solve_many, stiffness,
                   stiffness_many)
-from .bearing import ARRANGEMENTS, Bearing, Row
-from .bearing_file import bearing_from_table, load_bearing, preset_names
-from .geometry import (MATERIALS, SILICON_NITRIDE, STEEL, BallContacts, Geometry, HertzContact, Material,
-                       ball_contacts, geometry_from_table, hertz_contact, race_contacts)
+from .bearing import ARRANGEMENTS, Bearing, Row, preset_names
+from .bearing_file import bearing_from_table, load_bearing
+from .contacts import BallContacts, ball_contacts
+from .geometry import (MATERIALS, SILICON_NITRIDE, STEEL, Geometry, HertzContact, Material, geometry_from_table,
+                       hertz_contact, race_contacts)
 from .loadmap import loadmap, open_dataset
 from .passage import passage
 

@@ -13,10 +13,10 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
-from . import config, status as st
+from . import config, status as st, validate
 from .bearing import Bearing
 from .kernel import ball_loop
-from .solver import BROYDEN, NEWTON, WORK_ROWS, solve_case
+from .solver import BROYDEN, NEWTON, WORK_ROWS, SolverSettings, solve_case
 from .sweep import solve_sweep, stiffness_sweep
 
 METHODS = {"newton": NEWTON, "broyden": BROYDEN}
@@ -105,25 +105,33 @@ def _method(method: str) -> int:
     return METHODS[method]
 
 
-def _positive(name, value, default, kind=float):
+def _bounded(name, value, default, low, high, integer=False):
+    """A solver setting: None gives the default; otherwise a number in [low, high] (an integer if asked)."""
     if value is None:
         return default
-    if not (np.isfinite(value) and value > 0):
-        raise ValueError(f"{name} must be > 0, got {value!r}")
-    return kind(value)
+    kind = "an integer" if integer else "a number"
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise ValueError(f"{name} must be {kind} in [{low:g}, {high:g}], got {value!r}")
+    if not (np.isfinite(value) and low <= value <= high) or (integer and value != int(value)):
+        raise ValueError(f"{name} must be {kind} in [{low:g}, {high:g}], got {value!r}")
+    return int(value) if integer else float(value)
 
 
-def solver_settings(bearing: Bearing, method: str = "newton", rtol=None, max_iter=None) -> dict:
-    """Checked solver arguments shared by :func:`solve` and the sweeps."""
+def solver_settings(bearing: Bearing, method: str = "newton", rtol=None, max_iter=None) -> SolverSettings:
+    """Checked solver settings shared by :func:`solve` and the sweeps.
+
+    ``rtol`` (relative residual, default 1e-10) must lie in
+    [1e-14, 1e-3]; ``max_iter`` (iterations per solver phase) is an integer
+    in [1, 10000].
+    """
     m = _method(method)
     default_iter = config.MAX_ITER_NEWTON if m == NEWTON else config.MAX_ITER_BROYDEN
-    return dict(
+    return SolverSettings(
         method=m,
-        rtol=_positive("rtol", rtol, config.RTOL),
-        max_iter=_positive("max_iter", max_iter, default_iter, int),
+        rtol=_bounded("rtol", rtol, config.RTOL, *config.RTOL_RANGE),
+        max_iter=_bounded("max_iter", max_iter, default_iter, *config.MAX_ITER_RANGE, integer=True),
         length_scale=bearing.length_scale,
-        force_floor=bearing.preload_force,
-        # one step may move at most half the smallest groove-centre distance
+        # one fast-phase step may move at most half the smallest groove-centre distance
         max_step=0.5 * min(r.groove_center_distance for r in bearing.rows),
     )
 
@@ -143,13 +151,27 @@ def stiffness(bearing: Bearing, q) -> tuple[np.ndarray, np.ndarray]:
         (Fx, Fy, Fz, Mx, My) in N and N*mm.
     K : ndarray (5, 5)
         Kb in N/mm, N*mm/rad, N/rad; symmetric.
+
+    Raises
+    ------
+    ValueError
+        If q is not 5 finite numbers, or so large that f or Kb overflow float64.
     """
     bearing = _check_bearing(bearing)
     q = _as_vector(q, "q", "dx, dy, dz in mm; bx, by in rad")
     f = np.empty(5)
     K = np.empty((5, 5))
     ball_loop(q, bearing.ball_set(), f, K, None, None)
+    _check_finite_result(f, K, "q")
     return f, K
+
+
+def _check_finite_result(f, K, name: str) -> None:
+    bad = ~(np.isfinite(f).all(axis=-1) & np.isfinite(K).all(axis=(-2, -1)))
+    if np.any(bad):
+        where = f" (case {int(np.flatnonzero(bad)[0])})" if np.ndim(bad) else ""
+        raise ValueError(f"{name}{where} is too large: f or Kb overflow float64 (displacements must be small "
+                         "against the groove-centre distance A0, mm)")
 
 
 def ball_loads(bearing: Bearing, q) -> tuple[np.ndarray, np.ndarray]:
@@ -196,21 +218,24 @@ def solve(bearing: Bearing, f, q0=None, method: str = "newton", rtol=None, max_i
     f_out = np.empty(5)
     K = np.empty((5, 5))
     work = np.empty((WORK_ROWS, 5))
-    code, it, res, ev = solve_case(f_target, q, f_out, K, bearing.ball_set(), opts["method"], warm, opts["rtol"],
-                                   opts["max_iter"], opts["length_scale"], opts["force_floor"], opts["max_step"],
-                                   work, None, None)
-    return SolveResult(q, f_out, K, int(code), int(it), float(res), int(ev))
+    out = solve_case(f_target, q, f_out, K, bearing.ball_set(), opts, warm, work, None, None)
+    return SolveResult(q, f_out, K, int(out.status), int(out.iterations), float(out.residual), int(out.evaluations))
+
+
+def check_threads(n):
+    """None, or an integer in [1, NUMBA_NUM_THREADS]; ValueError otherwise (call before creating anything)."""
+    if n is None:
+        return None
+    return validate.integer(n, "threads", low=1, high=numba.config.NUMBA_NUM_THREADS)
 
 
 @contextlib.contextmanager
 def num_threads(n):
     """Run numba's parallel loops on ``n`` threads inside the block (None: leave as is)."""
+    n = check_threads(n)
     if n is None:
         yield
         return
-    limit = numba.config.NUMBA_NUM_THREADS
-    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or not 1 <= n <= limit:
-        raise ValueError(f"threads must be an integer in [1, {limit}] (NUMBA_NUM_THREADS), got {n!r}")
     old = numba.get_num_threads()
     numba.set_num_threads(int(n))
     try:
@@ -267,8 +292,7 @@ def solve_many(bearing: Bearing, f, q0=None, method: str = "newton", rtol=None, 
                           np.empty(n), np.empty(n, np.int32))
     with num_threads(threads):
         solve_sweep(f_targets, out.q, out.f, out.K, out.status, out.iterations, out.residual, out.evaluations,
-                    bearing.ball_set(), opts["method"], warm, opts["rtol"], opts["max_iter"],
-                    opts["length_scale"], opts["force_floor"], opts["max_step"], config.SWEEP_BLOCK)
+                    bearing.ball_set(), opts, warm, config.SWEEP_BLOCK)
     return out
 
 
@@ -281,5 +305,6 @@ def stiffness_many(bearing: Bearing, q, threads=None) -> tuple[np.ndarray, np.nd
     K = np.empty((n, 5, 5))
     with num_threads(threads):
         stiffness_sweep(q, f, K, bearing.ball_set(), config.SWEEP_BLOCK)
+    _check_finite_result(f, K, "q")
     return f, K
 

@@ -10,14 +10,14 @@ catalogues and bearing files.
 from __future__ import annotations
 
 import math
+import tomllib
 from dataclasses import dataclass, fields, replace
 from functools import cached_property
-from typing import TYPE_CHECKING
+from importlib import resources
 
 import numpy as np
 
-if TYPE_CHECKING:
-    from .geometry import Geometry
+from . import validate
 
 ARRANGEMENTS = ("single", "DB", "DF", "DT")
 
@@ -29,14 +29,16 @@ COS_PSI, SIN_PSI, AXIAL_OFFSET, PITCH_RADIUS, UR0, UZ0, A0, KN, EXPONENT, ROW, D
 N_BALL_COLUMNS = 12
 
 
+#: Most balls a row may have (a sanity bound: real bearings have a few dozen).
+MAX_BALLS = 10_000
+#: Largest unloaded ball deflection a preload may set, as a fraction of A0: beyond it the contact is
+#: no longer a small elastic one (A0 is about 5 % of the ball diameter).
+PRELOAD_DEFLECTION_LIMIT = 0.1
+
+
 def _check_finite(name: str, value) -> float:
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a number, got {value!r}") from None
-    if not math.isfinite(x):
-        raise ValueError(f"{name} must be finite, got {value!r}")
-    return x
+    """A finite number (not a bool or a string); ValueError naming ``name``."""
+    return validate.number(value, name)
 
 
 @dataclass(frozen=True)
@@ -65,9 +67,13 @@ class Row:
     exponent : float
         n, load-deflection exponent (1.5 for balls), > 1.
     radial_clearance : float
-        rL, radial clearance per ball in mm (half the diametral clearance), >= 0.
+        rL, radial clearance per ball in mm (half the diametral clearance),
+        < A0 cos(a0). Negative: a radial preload (interference); every ball is
+        then loaded at q = 0, by a deflection of at most 10 % of A0.
     axial_preload : float
-        d0, axial preload displacement of the row in mm; only with rL = 0.
+        d0, axial preload displacement of the row in mm, >= -A0 sin(a0) (a
+        negative value is an axial clearance); not with rL > 0; its ball
+        deflection at most 10 % of A0.
     first_ball_angle : float
         psi0, azimuth of the row's first ball in degrees.
     """
@@ -85,33 +91,53 @@ class Row:
     first_ball_angle: float = 0.0
 
     def __post_init__(self):
-        for f in fields(self):
-            if f.name not in ("n_balls", "contact_direction"):
-                object.__setattr__(self, f.name, _check_finite(f.name, getattr(self, f.name)))
-        n = self.n_balls
-        if isinstance(n, bool) or not isinstance(n, (int, np.integer, float)) or n != int(n) or n < 1:
-            raise ValueError(f"n_balls must be an integer >= 1, got {n!r}")
-        object.__setattr__(self, "n_balls", int(n))
-        if self.contact_direction not in (1, -1) or isinstance(self.contact_direction, bool):
-            raise ValueError(f"contact_direction must be +1 or -1, got {self.contact_direction!r}")
-        object.__setattr__(self, "contact_direction", int(self.contact_direction))
-        if self.hertz_constant <= 0:
-            raise ValueError(f"hertz_constant must be > 0 N/mm^n, got {self.hertz_constant!r}")
-        if self.pitch_radius <= 0:
-            raise ValueError(f"pitch_radius must be > 0 mm, got {self.pitch_radius!r}")
-        if self.groove_center_distance <= 0:
-            raise ValueError(f"groove_center_distance must be > 0 mm, got {self.groove_center_distance!r}")
-        if not 0.0 <= self.contact_angle < 90.0:
-            raise ValueError(f"contact_angle must be in [0, 90) degrees, got {self.contact_angle!r}")
-        if self.exponent <= 1.0:
-            raise ValueError(f"exponent must be > 1, got {self.exponent!r}")
-        if self.radial_clearance < 0:
-            raise ValueError(f"radial_clearance must be >= 0 mm, got {self.radial_clearance!r}")
-        if self.axial_preload != 0 and self.radial_clearance > 0:
-            raise ValueError(
-                "axial_preload must be 0 when radial_clearance > 0 (preload needs zero clearance), "
-                f"got axial_preload={self.axial_preload!r}, radial_clearance={self.radial_clearance!r}"
-            )
+        v = validate
+        set_ = object.__setattr__
+        set_(self, "n_balls", v.integer(self.n_balls, "n_balls", low=1, high=MAX_BALLS))
+        if isinstance(self.contact_direction, bool) or self.contact_direction not in (1, -1):
+            raise validate.FieldError("contact_direction", "must be +1 or -1", self.contact_direction)
+        set_(self, "contact_direction", int(self.contact_direction))
+        set_(self, "hertz_constant", v.number(self.hertz_constant, "hertz_constant", low=0, low_open=True,
+                                              units="N/mm^n"))
+        set_(self, "pitch_radius", v.number(self.pitch_radius, "pitch_radius", low=0, low_open=True, units="mm"))
+        set_(self, "groove_center_distance", v.number(self.groove_center_distance, "groove_center_distance", low=0,
+                                                      low_open=True, units="mm"))
+        set_(self, "contact_angle", v.number(self.contact_angle, "contact_angle", low=0, high=90, high_open=True,
+                                             units="degrees"))
+        set_(self, "exponent", v.number(self.exponent, "exponent", low=1, high=3, low_open=True))
+        for name in ("axial_offset", "first_ball_angle"):
+            set_(self, name, v.number(getattr(self, name), name))
+        set_(self, "radial_clearance", v.number(self.radial_clearance, "radial_clearance", units="mm"))
+        set_(self, "axial_preload", v.number(self.axial_preload, "axial_preload", units="mm"))
+        self._check_clearance_and_preload()
+
+    def _check_clearance_and_preload(self) -> None:
+        """Keep the groove centres where the model holds (MODEL.md): on their own sides, and a preload
+        (negative clearance, axial preload) that deflects each ball by at most 10 % of A0."""
+        A0, a0 = self.groove_center_distance, math.radians(self.contact_angle)
+        rL, d0 = self.radial_clearance, self.axial_preload
+        radial, axial = A0 * math.cos(a0), A0 * math.sin(a0)
+        if rL >= radial:
+            raise validate.FieldError("radial_clearance", f"must be < A0 cos(a0) = {radial:.6g} mm (beyond it the "
+                                      "inner and outer groove centres cross)", rL)
+        if d0 < -axial:
+            raise validate.FieldError("axial_preload", f"must be >= -A0 sin(a0) = {-axial:.6g} mm (an axial "
+                                      "clearance beyond it turns the row's contact direction round)", d0)
+        if d0 != 0 and rL > 0:
+            raise validate.FieldError("axial_preload", "must be 0 when radial_clearance > 0 (an axial preload "
+                                      f"needs zero or negative clearance; radial_clearance = {rL!r} mm)", d0)
+        limit = PRELOAD_DEFLECTION_LIMIT * A0
+        if math.hypot(radial - rL, axial + d0) - A0 > limit:
+            # the bound on the key that set the preload, the other held at its value
+            reach2 = (A0 + limit) ** 2
+            if rL < 0 and reach2 > (axial + d0) ** 2:
+                bound = radial - math.sqrt(reach2 - (axial + d0) ** 2)
+                raise validate.FieldError("radial_clearance", f"must be >= {bound:.6g} mm: a radial preload "
+                                          f"(negative clearance) may deflect each ball by at most "
+                                          f"{PRELOAD_DEFLECTION_LIMIT:g} A0 = {limit:.6g} mm", rL)
+            bound = math.sqrt(max(reach2 - (radial - rL) ** 2, 0.0)) - axial
+            raise validate.FieldError("axial_preload", f"must be <= {bound:.6g} mm: an axial preload may deflect "
+                                      f"each ball by at most {PRELOAD_DEFLECTION_LIMIT:g} A0 = {limit:.6g} mm", d0)
 
 
 @dataclass(frozen=True)
@@ -127,16 +153,15 @@ class Bearing:
     rows: tuple[Row, ...]
     arrangement: str = "custom"
     name: str = ""
-    #: Catalogue geometry the rows were derived from (fastbearing.geometry), or None.
-    geometry: Geometry | None = None
+    #: Catalogue geometry the rows were derived from (a fastbearing.Geometry), or None.
+    geometry: object = None
 
     def __post_init__(self):
-        rows = tuple(self.rows)
-        if not rows:
-            raise ValueError("rows must hold at least 1 row, got 0")
+        rows = tuple(validate.array(self.rows, "rows", min_length=1))
         for i, row in enumerate(rows):
             if not isinstance(row, Row):
-                raise ValueError(f"rows[{i}] must be a fastbearing.Row, got {type(row).__name__}")
+                raise validate.FieldError(f"rows[{i}]", f"must be a fastbearing.Row, not {type(row).__name__}",
+                                          show_value=False)
         object.__setattr__(self, "rows", rows)
 
     # -- constructors -------------------------------------------------------
@@ -144,7 +169,7 @@ class Bearing:
     def single(cls, *, name: str = "", **row) -> "Bearing":
         """Single-row bearing: one :class:`Row` at axial offset 0 (keywords as in Row)."""
         row.setdefault("axial_offset", 0.0)
-        return cls((_row(row, "bearing"),), arrangement="single", name=name)
+        return cls((_row(row, ""),), arrangement="single", name=name)
 
     @classmethod
     def double(cls, arrangement: str, row_offset: float, *, axial_preload=0.0, name: str = "", **row) -> "Bearing":
@@ -161,11 +186,12 @@ class Bearing:
         **row
             The remaining :class:`Row` keywords, shared by both rows.
         """
-        if arrangement not in _DOUBLE_ROW_DIRECTIONS:
-            raise ValueError(f"arrangement must be one of 'DB', 'DF', 'DT' for a double row, got {arrangement!r}")
-        e = _check_finite("row_offset", row_offset)
-        if e < 0:
-            raise ValueError(f"row_offset must be >= 0 mm, got {row_offset!r}")
+        validate.choice(arrangement, "arrangement", tuple(_DOUBLE_ROW_DIRECTIONS))
+        e = validate.number(row_offset, "row_offset", low=0, units="mm")
+        fixed = sorted({"axial_offset", "contact_direction"} & set(row))
+        if fixed:
+            raise validate.FieldError(fixed[0], f"is set by the arrangement of a double row ({arrangement}: rows at "
+                                      "z = -e and +e); use Bearing.from_rows for rows of your own", row[fixed[0]])
         preloads = _per_row("axial_preload", axial_preload, 2)
         rows = []
         for i, (z, s) in enumerate(zip((-e, e), _DOUBLE_ROW_DIRECTIONS[arrangement])):
@@ -175,15 +201,65 @@ class Bearing:
     @classmethod
     def from_rows(cls, rows, *, name: str = "") -> "Bearing":
         """General set of rows (duplex, triplex, quadruplex ...): Row objects or dicts of Row keywords."""
-        built = tuple(r if isinstance(r, Row) else _row(dict(r), f"rows[{i}]") for i, r in enumerate(rows))
+        rows = validate.array(rows, "rows", min_length=1)
+        built = tuple(r if isinstance(r, Row) else _row(r, f"rows[{i}]") for i, r in enumerate(rows))
         return cls(built, arrangement="custom", name=name)
 
     @classmethod
-    def preset(cls, name: str, arrangement: str = "DB", **overrides) -> "Bearing":
-        """A shipped bearing, e.g. ``Bearing.preset("gunduz2013", "DT")``; keywords override its values."""
-        from .bearing_file import preset_bearing
+    def from_table(cls, table, where: str = "bearing") -> "Bearing":
+        """A bearing from model parameters as a ``[bearing]`` table (units N, mm, degrees).
 
-        return preset_bearing(name, arrangement, **overrides)
+        Either the compact form, ``arrangement`` ("single", "DB", "DF", "DT")
+        with ``row_offset`` (e, mm) for double rows and the row keys shared by
+        both rows, or a general set ``rows = [{...}, ...]`` of Row tables
+        (keys given beside ``rows`` are defaults for every row).
+        ``axial_preload`` is one number or one per row. A FieldError names
+        the offending key under ``where``.
+        """
+        validate.table(table, where, _COMPACT_KEYS | {"rows"})
+        table = dict(table)
+        name = validate.text(table.pop("name", ""), f"{where}.name")
+        if "rows" in table:
+            rows = validate.array(table.pop("rows"), f"{where}.rows", min_length=1)
+            table.pop("arrangement", None)
+            if "row_offset" in table:
+                raise validate.FieldError(f"{where}.row_offset", "is not used with rows; give each row its "
+                                          "axial_offset", table["row_offset"])
+            preloads = _per_row(f"{where}.axial_preload", table.pop("axial_preload", 0.0), len(rows))
+            built = []
+            for i, r in enumerate(rows):
+                validate.table(r, f"{where}.rows[{i}]", ROW_KEYS)
+                built.append(_row({**table, "axial_preload": preloads[i], **r}, f"{where}.rows[{i}]"))
+            return cls(tuple(built), arrangement="custom", name=name)
+        arrangement = validate.choice(table.pop("arrangement", "single"), f"{where}.arrangement", ARRANGEMENTS)
+        preload = table.pop("axial_preload", 0.0)
+        try:
+            if arrangement == "single":
+                if "row_offset" in table:  # ignored for a single row (a preset may carry it for its double rows)
+                    validate.number(table.pop("row_offset"), "row_offset", low=0, units="mm")
+                return cls.single(name=name, axial_preload=_per_row("axial_preload", preload, 1)[0], **table)
+            if "row_offset" not in table:
+                raise validate.FieldError("row_offset", f"(e, mm, >= 0) is required for arrangement {arrangement!r}",
+                                          show_value=False)
+            e = table.pop("row_offset")
+            _row({**table, "axial_preload": 0.0}, "")  # the shared keys were typed once: report them as bearing.KEY
+            return cls.double(arrangement, e, axial_preload=preload, name=name, **table)
+        except validate.FieldError as err:
+            field = err.field.split(".", 1)[1] if err.field.startswith("rows[") else err.field
+            raise validate.FieldError(field, err.rule, err.value, show_value=err.show_value).within(where) from None
+
+    @classmethod
+    def preset(cls, name: str, arrangement: str | None = None, **overrides) -> "Bearing":
+        """A shipped bearing, e.g. ``Bearing.preset("gunduz2013", "DT")``; keywords override its values.
+
+        Presets: see :func:`preset_names` (``"gunduz2013"``: the paper's Table 1
+        bearing); arrangements "single", "DB", "DF", "DT" (default: the preset's own).
+        """
+        table = preset_table(name)
+        if arrangement is not None:
+            table["arrangement"] = arrangement
+        table.update(overrides)
+        return cls.from_table(table)
 
     # -- derived quantities ---------------------------------------------------
     @property
@@ -224,8 +300,9 @@ class Bearing:
         return self._build_ball_table(cage_angle)
 
     def ball_set(self, cage_angle: float = 0.0) -> tuple:
-        """What the kernel reads: (ball table, per-ball exponents or None when every n is 1.5)."""
-        return (self.ball_table(cage_angle), self.ball_exponents)
+        """What the kernel reads: (ball table, per-ball exponents or None when every n is 1.5, None:
+        the exact contact law)."""
+        return (self.ball_table(cage_angle), self.ball_exponents, None)
 
     @cached_property
     def ball_exponents(self):
@@ -284,31 +361,47 @@ class Bearing:
 
 
 ROW_KEYS = tuple(f.name for f in fields(Row))
+#: Row keys a compact [bearing] table shares between its rows.
+SHARED_ROW_KEYS = ("n_balls", "hertz_constant", "pitch_radius", "groove_center_distance", "contact_angle", "exponent",
+                   "radial_clearance", "first_ball_angle")
+_COMPACT_KEYS = set(SHARED_ROW_KEYS) | {"arrangement", "row_offset", "axial_preload", "name"}
+
+
+def preset_names() -> list[str]:
+    """Names of the shipped presets (model-parameter tables in fastbearing/presets/)."""
+    return sorted(p.name[:-5] for p in resources.files("fastbearing.presets").iterdir() if p.name.endswith(".toml"))
+
+
+def preset_table(name: str) -> dict:
+    """A copy of a shipped preset's ``[bearing]`` table."""
+    validate.choice(name, "preset", preset_names())
+    text = resources.files("fastbearing.presets").joinpath(f"{name}.toml").read_text()
+    return dict(tomllib.loads(text)["bearing"])
 
 
 def check_keys(table: dict, allowed, where: str) -> None:
-    """ValueError naming ``where`` when ``table`` has keys outside ``allowed`` (config files are strict)."""
-    unknown = sorted(set(table) - set(allowed))
-    if unknown:
-        raise ValueError(f"{where}: unknown key(s) {unknown}; allowed: {sorted(allowed)}")
+    """FieldError naming ``where`` when ``table`` is not a table or has keys outside ``allowed``."""
+    validate.table(table, where, allowed)
 
 
-def _row(values: dict, where: str) -> Row:
-    """Build a Row, naming where it came from in any error."""
-    check_keys(values, ROW_KEYS, where)
-    missing = [k for k in ("n_balls", "hertz_constant", "pitch_radius", "groove_center_distance", "contact_angle") if k not in values]
-    if missing:
-        raise ValueError(f"{where}: missing required key(s) {missing}")
+#: Keys every row must give.
+REQUIRED_ROW_KEYS = ("n_balls", "hertz_constant", "pitch_radius", "groove_center_distance", "contact_angle")
+
+
+def _row(values, where: str) -> Row:
+    """Build a Row from a table of Row keywords, naming where it came from in any error."""
+    validate.table(values, where, ROW_KEYS, REQUIRED_ROW_KEYS)
     try:
         return Row(**values)
-    except ValueError as err:
-        raise ValueError(f"{where}.{err}") from None
+    except validate.FieldError as err:
+        raise err.within(where) from None
 
 
 def _per_row(name: str, value, n_rows: int) -> list[float]:
     """One number for every row, or a list of one number per row."""
     if isinstance(value, (list, tuple, np.ndarray)):
         if len(value) != n_rows:
-            raise ValueError(f"{name} must be one number or a list of {n_rows} numbers (one per row), got {len(value)}")
-        return [_check_finite(f"{name}[{i}]", v) for i, v in enumerate(value)]
-    return [_check_finite(name, value)] * n_rows
+            raise validate.FieldError(name, f"must be one number or a list of {n_rows} numbers (one per row), "
+                                      f"got {len(value)} numbers", show_value=False)
+        return [validate.number(v, f"{name}[{i}]") for i, v in enumerate(value)]
+    return [validate.number(value, name)] * n_rows

@@ -13,8 +13,10 @@ import sys
 import numpy as np
 
 from .api import DISPLACEMENT_NAMES, LOAD_NAMES, solve, stiffness
-from .bearing_file import load_bearing, preset_bearing, preset_names
-from .geometry import ball_contacts, load_centre_spread
+from .bearing import preset_names
+from .bearing_file import load_bearing, preset_bearing
+from .contacts import ball_contacts
+from .geometry import load_centre_spread
 
 EXIT_USAGE = 2
 
@@ -43,6 +45,22 @@ def _five_numbers(text: str, what: str) -> list[float]:
     if not all(np.isfinite(values)):
         raise ValueError(f"{what} must be finite, got {text!r}")
     return values
+
+
+def _finite_or_none(value):
+    """JSON has no nan or inf: write them as null."""
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    if isinstance(value, dict):
+        return {k: _finite_or_none(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_finite_or_none(v) for v in value]
+    return value
+
+
+def json_text(obj) -> str:
+    """Strict JSON (non-finite numbers as null) for every --json output."""
+    return json.dumps(_finite_or_none(obj), allow_nan=False)
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -306,7 +324,7 @@ def _shaft(args) -> int:
         out["frequencies_hz"] = natural_frequencies(result.K_system, M).frequencies.tolist()
         out["frequencies_diagonal_only_hz"] = natural_frequencies(result.K_system, M, True).frequencies.tolist()
     if args.json:
-        print(_json.dumps(out))
+        print(json_text(out))
         return 0 if result.solution.converged else 1
     print(f"shaft: status {out['status']}; reference z = {shaft.reference:g} mm")
     print("q at the reference (mm, mm, mm, rad, rad): " + "  ".join(f"{v:.6g}" for v in out["q"]))
@@ -509,7 +527,7 @@ def _bearing_text(rep: dict, bearing) -> str:
 def _bearing_command(args) -> int:
     bearing = load_bearing(args.file)
     rep = _bearing_report(bearing)
-    print(json.dumps(rep) if args.json else _bearing_text(rep, bearing))
+    print(json_text(rep) if args.json else _bearing_text(rep, bearing))
     return 0
 
 
@@ -552,13 +570,16 @@ def _solve(args) -> int:
         result = solve(bearing, _five_numbers(args.load, "--load"), method=args.method).to_dict()
     else:
         q = _five_numbers(args.displacement, "--displacement")
-        f, K = stiffness(bearing, q)
+        try:
+            f, K = stiffness(bearing, q)
+        except ValueError:
+            raise ValueError(f"--displacement {args.displacement} is too large: f or Kb overflow float64") from None
         result = {"q": [float(v) for v in q], "f": f.tolist(), "K": K.tolist(), "status": "direct",
                   "converged": True, "iterations": 0, "residual": 0.0}
     if args.balls:
         result["balls"] = ball_contacts(bearing, result["q"]).to_records()
     if args.json:
-        print(json.dumps(result))
+        print(json_text(result))
     else:
         print(_table(result))
         if args.balls:

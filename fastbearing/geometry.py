@@ -49,7 +49,8 @@ from dataclasses import dataclass, fields, replace
 
 import numpy as np
 
-from .bearing import Bearing, _check_finite, check_keys
+from . import validate
+from .bearing import PRELOAD_DEFLECTION_LIMIT, Bearing, _check_finite
 
 ELLIPTICITY_METHODS = ("exact", "hamrock-brewe")
 
@@ -76,14 +77,10 @@ class Material:
     poisson_ratio: float
 
     def __post_init__(self):
-        E = _check_finite("youngs_modulus", self.youngs_modulus)
-        nu = _check_finite("poisson_ratio", self.poisson_ratio)
-        if E <= 0:
-            raise ValueError(f"youngs_modulus must be > 0 N/mm^2, got {self.youngs_modulus!r}")
-        if not 0.0 <= nu < 0.5:
-            raise ValueError(f"poisson_ratio must be in [0, 0.5), got {self.poisson_ratio!r}")
-        object.__setattr__(self, "youngs_modulus", E)
-        object.__setattr__(self, "poisson_ratio", nu)
+        object.__setattr__(self, "youngs_modulus", validate.number(self.youngs_modulus, "youngs_modulus", low=0,
+                                                                   low_open=True, units="N/mm^2"))
+        object.__setattr__(self, "poisson_ratio", validate.number(self.poisson_ratio, "poisson_ratio", low=0, high=0.5,
+                                                                  high_open=True))
 
 
 #: Through-hardened bearing steel (AISI 52100 / 100Cr6): E = 208 000 N/mm^2, nu = 0.3
@@ -319,7 +316,9 @@ class Geometry:
         (0 for a deep-groove bearing, the catalogue angle for an angular
         contact one). Independent of the clearance.
     diametral_clearance : float
-        Pd, radial play in mm, >= 0 and < 2 A0 cos(a0); radial_clearance rL = Pd/2 per ball.
+        Pd, radial play in mm, < 2 A0 cos(a0); radial_clearance rL = Pd/2 per
+        ball. Negative: an interference (radial preload) that deflects each
+        ball by at most 10 % of A0.
     row_spacing : float or None
         2e, axial distance between the two rows of a double-row bearing, mm, >= 0.
     ball_material, ring_material : Material
@@ -354,45 +353,44 @@ class Geometry:
     ellipticity: str = "exact"
 
     def __post_init__(self):
-        for f in fields(self):
-            if f.name in ("n_balls", "ball_material", "ring_material", "ellipticity"):
-                continue
-            value = getattr(self, f.name)
-            if f.name == "row_spacing" and value is None:
-                continue
-            object.__setattr__(self, f.name, _check_finite(f.name, value))
-        n = self.n_balls
-        if isinstance(n, bool) or not isinstance(n, (int, np.integer, float)) or n != int(n) or n < 1:
-            raise ValueError(f"n_balls must be an integer >= 1, got {n!r}")
-        object.__setattr__(self, "n_balls", int(n))
-        D, dm = self.ball_diameter, self.pitch_diameter
-        if D <= 0:
-            raise ValueError(f"ball_diameter must be > 0 mm, got {D!r}")
-        if dm <= D:
-            raise ValueError(f"pitch_diameter must be > ball_diameter ({D!r} mm), got {dm!r}")
+        v = validate
+        set_ = object.__setattr__
+        set_(self, "n_balls", v.integer(self.n_balls, "n_balls", low=1))
+        D = v.number(self.ball_diameter, "ball_diameter", low=0, low_open=True, units="mm")
+        set_(self, "ball_diameter", D)
+        if not (validate._is_number(self.pitch_diameter) and math.isfinite(self.pitch_diameter)
+                and self.pitch_diameter > D):
+            raise v.FieldError("pitch_diameter", f"must be > ball_diameter ({D!r} mm)", self.pitch_diameter)
+        dm = float(self.pitch_diameter)
+        set_(self, "pitch_diameter", dm)
         z_max = int(math.pi / math.asin(D / dm) + 1e-9)
         if self.n_balls > z_max:
-            raise ValueError(f"n_balls must be <= {z_max} for ball_diameter {D!r} mm on pitch_diameter {dm!r} mm "
-                             f"(more would overlap), got {self.n_balls}")
+            raise v.FieldError("n_balls", f"must be <= {z_max} for ball_diameter {D!r} mm on pitch_diameter {dm!r} "
+                               "mm (more would overlap)", self.n_balls)
         for name in ("inner_groove_ratio", "outer_groove_ratio"):
-            f_ = getattr(self, name)
-            if not 0.5 < f_ < 1.0:
-                raise ValueError(f"{name} must be in (0.5, 1) (groove radius over ball diameter), got {f_!r}")
-        if not 0.0 <= self.contact_angle < 90.0:
-            raise ValueError(f"contact_angle must be in [0, 90) degrees, got {self.contact_angle!r}")
-        if self.diametral_clearance < 0:
-            raise ValueError(f"diametral_clearance must be >= 0 mm, got {self.diametral_clearance!r}")
-        limit = 2.0 * self.groove_center_distance * math.cos(math.radians(self.contact_angle))
+            set_(self, name, v.number(getattr(self, name), name, low=0.5, high=1.0, low_open=True, high_open=True))
+        set_(self, "contact_angle", v.number(self.contact_angle, "contact_angle", low=0, high=90, high_open=True,
+                                             units="degrees"))
+        a0 = math.radians(self.contact_angle)
+        limit = 2.0 * self.groove_center_distance * math.cos(a0)
+        # a negative clearance preloads the balls radially: the same 10 % of A0 bound as Row's
+        A0 = self.groove_center_distance
+        floor = -2.0 * (math.sqrt(((1 + PRELOAD_DEFLECTION_LIMIT) * A0) ** 2 - (A0 * math.sin(a0)) ** 2)
+                        - A0 * math.cos(a0))
+        set_(self, "diametral_clearance", v.number(self.diametral_clearance, "diametral_clearance", units="mm"))
         if self.diametral_clearance >= limit:
-            raise ValueError(f"diametral_clearance must be < 2 A0 cos(a0) = {limit:.6g} mm (A0 = (fi + fo - 1) D), "
-                             f"got {self.diametral_clearance!r}")
-        if self.row_spacing is not None and self.row_spacing < 0:
-            raise ValueError(f"row_spacing must be >= 0 mm, got {self.row_spacing!r}")
+            raise v.FieldError("diametral_clearance", f"must be < 2 A0 cos(a0) = {limit:.6g} mm "
+                               "(A0 = (fi + fo - 1) D)", self.diametral_clearance)
+        if self.diametral_clearance < floor:
+            raise v.FieldError("diametral_clearance", f"must be >= {floor:.6g} mm: a negative clearance (radial "
+                               f"preload) may deflect each ball by at most {PRELOAD_DEFLECTION_LIMIT:g} A0",
+                               self.diametral_clearance)
+        if self.row_spacing is not None:
+            set_(self, "row_spacing", v.number(self.row_spacing, "row_spacing", low=0, units="mm"))
         for name in ("ball_material", "ring_material"):
             if not isinstance(getattr(self, name), Material):
-                raise ValueError(f"{name} must be a fastbearing.geometry.Material, got {getattr(self, name)!r}")
-        if self.ellipticity not in ELLIPTICITY_METHODS:
-            raise ValueError(f"ellipticity must be one of {list(ELLIPTICITY_METHODS)}, got {self.ellipticity!r}")
+                raise v.FieldError(name, "must be a fastbearing.Material", getattr(self, name))
+        v.choice(self.ellipticity, "ellipticity", ELLIPTICITY_METHODS)
 
     # -- derived model parameters (MODEL.md) -------------------------------------------
     @property
@@ -512,10 +510,7 @@ def _material_values(table: dict, where: str) -> tuple[Material, Material]:
             ball[prop] = ring[prop] = table[prop]
             ball["name"] = ring["name"] = "custom"
     if "material" in table:
-        name = table["material"]
-        if name not in MATERIALS:
-            raise ValueError(f"{where}.material must be one of {sorted(MATERIALS)} (for the balls), got {name!r}")
-        m = MATERIALS[name]
+        m = MATERIALS[validate.choice(table["material"], f"{where}.material", sorted(MATERIALS))]
         ball = {"name": m.name, "youngs_modulus": m.youngs_modulus, "poisson_ratio": m.poisson_ratio}
     for body, values in (("ball", ball), ("ring", ring)):
         for prop in ("youngs_modulus", "poisson_ratio"):
@@ -527,11 +522,9 @@ def _material_values(table: dict, where: str) -> tuple[Material, Material]:
     for body, values in (("ball", ball), ("ring", ring)):
         try:
             out.append(Material(**values))
-        except ValueError as err:
-            msg = str(err)
-            prop = msg.split(" ", 1)[0]
-            source = next((k for k in (f"{body}_{prop}", prop) if k in table), prop)
-            raise ValueError(f"{where}.{source}{msg[len(prop):]}") from None
+        except validate.FieldError as err:
+            source = next((k for k in (f"{body}_{err.field}", err.field) if k in table), err.field)
+            raise validate.FieldError(f"{where}.{source}", err.rule, err.value) from None
     return out[0], out[1]
 
 
@@ -545,133 +538,11 @@ def geometry_from_table(table: dict, where: str = "bearing.geometry") -> Geometr
     variants of both (one body), material ("steel" | "silicon-nitride", the
     balls), ellipticity ("exact" | "hamrock-brewe"). A ValueError names the key.
     """
-    if not isinstance(table, dict):
-        raise ValueError(f"{where} must be a table, got {type(table).__name__}")
-    check_keys(table, GEOMETRY_KEYS, where)
-    missing = [k for k in _REQUIRED if k not in table]
-    if missing:
-        raise ValueError(f"{where}: missing required key(s) {missing}")
+    validate.table(table, where, GEOMETRY_KEYS, _REQUIRED)
     ball, ring = _material_values(table, where)
     values = {k: table[k] for k in _REQUIRED + ("contact_angle", "diametral_clearance", "row_spacing", "ellipticity")
               if k in table}
     try:
         return Geometry(**values, ball_material=ball, ring_material=ring)
-    except ValueError as err:
-        raise ValueError(f"{where}.{err}") from None
-
-
-# -- per-ball contact results ----------------------------------------------------------
-@dataclass(frozen=True)
-class BallContacts:
-    """What happens at every ball of a bearing at one displacement q.
-
-    Arrays of length n_balls, ordered row by row, each row from its first
-    ball (as :func:`fastbearing.ball_loads`). The contact fields are None
-    when the bearing has no catalogue geometry.
-
-    Attributes
-    ----------
-    row, ball : ndarray of int
-        Row index and ball index within the row.
-    azimuth : ndarray
-        psi, ball azimuth in rad, in [0, 2 pi).
-    deflection : ndarray
-        delta = (Q/Kn)^(1/n), total elastic approach of the ball (both contacts), mm.
-    load : ndarray
-        Q, ball load in N.
-    contact_angle : ndarray
-        alpha, loaded contact angle in rad, signed on the row's contact direction.
-    inner_max_pressure, outer_max_pressure : ndarray or None
-        Maximum Hertz pressure at the inner / outer race, N/mm^2 (MPa).
-    inner_semi_major, inner_semi_minor, outer_semi_major, outer_semi_minor : ndarray or None
-        Contact-ellipse semi-axes a (across the groove) and b (rolling direction), mm.
-    """
-
-    row: np.ndarray
-    ball: np.ndarray
-    azimuth: np.ndarray
-    deflection: np.ndarray
-    load: np.ndarray
-    contact_angle: np.ndarray
-    inner_max_pressure: np.ndarray | None = None
-    inner_semi_major: np.ndarray | None = None
-    inner_semi_minor: np.ndarray | None = None
-    outer_max_pressure: np.ndarray | None = None
-    outer_semi_major: np.ndarray | None = None
-    outer_semi_minor: np.ndarray | None = None
-
-    @property
-    def has_contacts(self) -> bool:
-        return self.inner_max_pressure is not None
-
-    def max_pressure_per_row(self) -> np.ndarray | None:
-        """Largest contact pressure of each row over both races, N/mm^2 (None without geometry)."""
-        if not self.has_contacts:
-            return None
-        worst = np.maximum(self.inner_max_pressure, self.outer_max_pressure)
-        return np.array([worst[self.row == r].max(initial=0.0) for r in range(int(self.row.max()) + 1)])
-
-    def to_records(self) -> list[dict]:
-        """One JSON-ready dict per ball (lengths mm, angles rad, loads N, pressures N/mm^2)."""
-        names = [f.name for f in fields(self) if getattr(self, f.name) is not None]
-        records = []
-        for i in range(len(self.load)):
-            rec = {}
-            for n in names:
-                v = getattr(self, n)[i]
-                rec[n] = int(v) if n in ("row", "ball") else float(v)
-            records.append(rec)
-        return records
-
-
-def ball_contacts(bearing: Bearing, q) -> BallContacts:
-    """Per-ball load, deflection, contact angle and (with geometry) Hertz contact at displacement q.
-
-    Ball loads and loaded contact angles come from :func:`fastbearing.ball_loads`
-    (the one ball loop); the deflection is delta = (Q/Kn)^(1/n). With a
-    catalogue geometry (``bearing.geometry``), each loaded ball's inner and
-    outer contacts are evaluated at its own loaded contact angle (the
-    rolling-plane curvature depends on it through gamma = D cos(alpha)/dm),
-    giving the maximum pressure and the ellipse semi-axes.
-
-    Parameters
-    ----------
-    bearing : Bearing
-    q : sequence of 5 floats
-        (dx, dy, dz, bx, by) in mm and rad, e.g. ``solve(bearing, f).q``.
-
-    Returns
-    -------
-    BallContacts
-    """
-    from .api import ball_loads
-
-    Q, alpha = ball_loads(bearing, q)
-    rows, balls, psi, kn, n = [], [], [], [], []
-    for i, r in enumerate(bearing.rows):
-        j = np.arange(r.n_balls)
-        rows.append(np.full(r.n_balls, i))
-        balls.append(j)
-        psi.append(np.mod(math.radians(r.first_ball_angle) + 2.0 * math.pi * j / r.n_balls, 2.0 * math.pi))
-        kn.append(np.full(r.n_balls, r.hertz_constant))
-        n.append(np.full(r.n_balls, r.exponent))
-    kn, n = np.concatenate(kn), np.concatenate(n)
-    delta = (np.maximum(Q, 0.0) / kn) ** (1.0 / n)
-    base = dict(row=np.concatenate(rows), ball=np.concatenate(balls), azimuth=np.concatenate(psi),
-                deflection=delta, load=Q, contact_angle=alpha)
-    geometry = getattr(bearing, "geometry", None)
-    if geometry is None:
-        return BallContacts(**base)
-    out = {k: np.zeros(len(Q)) for k in ("inner_max_pressure", "inner_semi_major", "inner_semi_minor",
-                                          "outer_max_pressure", "outer_semi_major", "outer_semi_minor")}
-    cache: dict[float, tuple[HertzContact, HertzContact]] = {}
-    for i in np.flatnonzero(Q > 0):
-        a = abs(float(alpha[i]))
-        if a not in cache:
-            cache[a] = geometry.contacts(a)
-        for side, contact in zip(("inner", "outer"), cache[a]):
-            major, minor = contact.semi_axes(Q[i])
-            out[f"{side}_max_pressure"][i] = contact.max_pressure(Q[i])
-            out[f"{side}_semi_major"][i] = major
-            out[f"{side}_semi_minor"][i] = minor
-    return BallContacts(**base, **out)
+    except validate.FieldError as err:
+        raise err.within(where) from None

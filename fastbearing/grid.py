@@ -15,9 +15,14 @@ from pathlib import Path
 
 import numpy as np
 
+from . import validate
 from .api import DISPLACEMENT_NAMES, DISPLACEMENT_UNITS, LOAD_NAMES, LOAD_UNITS
 
 AXES = {"load": LOAD_NAMES, "displacement": DISPLACEMENT_NAMES}
+#: Most values one axis may have, and most cases one map may have (about 3.5 TB of results): a bigger
+#: map is refused before anything is allocated; split it into several maps.
+MAX_AXIS_VALUES = 10_000_000
+MAX_CASES = 10_000_000_000
 UNITS = {"load": LOAD_UNITS, "displacement": DISPLACEMENT_UNITS}
 LONG_NAMES = {
     "Fx": "radial force x on the inner ring", "Fy": "radial force y on the inner ring",
@@ -47,24 +52,16 @@ def parse_axis(name: str, spec, where: str) -> tuple[np.ndarray, bool]:
         if unknown or missing:
             raise ValueError(f"{field} as a table needs exactly start, stop, num; "
                              f"unknown {unknown}, missing {missing}")
-        num = spec["num"]
-        if isinstance(num, bool) or not isinstance(num, int) or num < 1:
-            raise ValueError(f"{field}.num must be an integer >= 1, got {num!r}")
-        start, stop = (_finite(f"{field}.{k}", spec[k]) for k in ("start", "stop"))
+        num = validate.integer(spec["num"], f"{field}.num", low=1, high=MAX_AXIS_VALUES)
+        start, stop = (validate.number(spec[k], f"{field}.{k}") for k in ("start", "stop"))
         return np.linspace(start, stop, num), True
     if isinstance(spec, list):
         if not spec:
             raise ValueError(f"{field} is an empty list; give at least one value")
-        return np.array([_finite(f"{field}[{i}]", v) for i, v in enumerate(spec)]), True
-    return np.array([_finite(field, spec)]), False
-
-
-def _finite(field: str, value) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise ValueError(f"{field} must be a number, got {value!r}")
-    if not math.isfinite(value):
-        raise ValueError(f"{field} must be finite, got {value!r}")
-    return float(value)
+        if len(spec) > MAX_AXIS_VALUES:
+            raise validate.FieldError(field, f"must hold at most {MAX_AXIS_VALUES} values", show_value=False)
+        return np.array([validate.number(v, f"{field}[{i}]") for i, v in enumerate(spec)]), True
+    return np.array([validate.number(spec, field)]), False
 
 
 @dataclass(frozen=True)
@@ -103,7 +100,14 @@ class CaseSet:
 
     @property
     def n_cases(self) -> int:
-        return int(np.prod(self.shape))
+        return math.prod(self.shape)  # exact integers: no float overflow for absurd grids
+
+    def check_size(self, where: str) -> None:
+        """Refuse a map of more than MAX_CASES cases before anything is allocated."""
+        if self.n_cases > MAX_CASES:
+            sizes = " x ".join(str(n) for n in self.shape)
+            raise ValueError(f"{where}: {sizes} = {self.n_cases:.3g} cases is more than one map may hold "
+                             f"({MAX_CASES:.0e} cases, about 3.5 TB); split it into several maps")
 
     @property
     def line_length(self) -> int:

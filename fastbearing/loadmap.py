@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from . import status as st, storage
-from .api import num_threads, solver_settings
+from .api import check_threads, num_threads, solver_settings
 from .bearing import ROW, Bearing
 from .bearing_file import read_job_config
 from .grid import AXES, LONG_NAMES, UNITS, Axis, CaseSet, parse_axis, plan_blocks, read_case_file
@@ -87,6 +87,7 @@ def read_config(config) -> LoadMapConfig:
             values, is_dim = parse_axis(name, spec.get(name, 0.0), "loadmap")
             axes.append(Axis(name, values, units, is_dim))
         cases = CaseSet(given, axes=tuple(axes))
+    cases.check_size("loadmap")
     return LoadMapConfig(bearing, cases, chunk, compression, method, rtol, max_iter, text, source,
                          digest.hexdigest())
 
@@ -102,8 +103,7 @@ def compute_block(bearing: Bearing, given_load: bool, line_length: int, inputs: 
     ball_row = balls[0][ROW].astype(np.int64)
     map_sweep(inputs, given_load, line_length, res["q"], res["f"], res["K"], res["status"], res["iterations"],
               res["residual"], res["max_ball_load"], res["loaded_balls"], res["min_contact_angle"],
-              res["max_contact_angle"], balls, ball_row, solver["method"], solver["rtol"], solver["max_iter"],
-              solver["length_scale"], solver["force_floor"], solver["max_step"])
+              res["max_contact_angle"], balls, ball_row, solver)
 
 
 class _Buffers:
@@ -175,7 +175,7 @@ def _create(cfg: LoadMapConfig, part: Path, blocks) -> None:
         "units_convention": "N, mm, rad; moments N*mm; stiffness N/mm, N*mm/rad, N/rad",
         "config": cfg.text, "config_source": str(cfg.source or ""), "config_fingerprint": cfg.fingerprint,
         "bearing": cfg.bearing.describe(), "bearing_json": json.dumps(cfg.bearing.to_dict()),
-        "solver_method": cfg.method, "solver_rtol": opts["rtol"], "solver_max_iter": opts["max_iter"],
+        "solver_method": cfg.method, "solver_rtol": opts.rtol, "solver_max_iter": opts.max_iter,
         "chunk": cfg.chunk, "compression": cfg.compression, "n_cases": cases.n_cases, "n_blocks": len(blocks),
         **storage.versions(),
     }
@@ -224,14 +224,23 @@ def loadmap(config, output=None, *, threads=None, resume=False, overwrite=False,
     Path or xarray.Dataset
     """
     cfg = config if isinstance(config, LoadMapConfig) else read_config(config)
+    check_threads(threads)
+    if as_dataset:
+        _require_xarray()
     if output is None:
         if cfg.source is None:
             raise ValueError("output is required when the config is not a file")
-        output = cfg.source.with_suffix(".h5")
-    out, part, resuming = storage.prepare_output(Path(output), cfg.fingerprint, resume, overwrite)
+        output = Path(cfg.source.name).with_suffix(".h5")  # in the current folder, like every other output
+    output = Path(output)
+    storage.check_output_path(output)
+    if not (resume and not storage.part_path(output).exists()):
+        sizes = {"dof": 5, "dof_col": 5, "row": cfg.bearing.n_rows}
+        storage.check_disk_space(output, cfg.cases.n_cases * storage.bytes_per_case(
+            storage.result_variables(cfg.cases.given), sizes), f"this map ({cfg.cases.n_cases} cases)")
+    out, part, resuming = storage.prepare_output(output, cfg.fingerprint, resume, overwrite)
     if resume and not part.exists():
         print(f"fastbearing: {out} is already complete; nothing to resume", file=sys.stderr)
-        return open_dataset(out) if as_dataset else out
+        return open_dataset(out) if as_dataset else out.absolute()
     cases = cfg.cases
     blocks = plan_blocks(cases.shape, cases.line_length, cfg.chunk)
     if not resuming:
@@ -276,7 +285,7 @@ def loadmap(config, output=None, *, threads=None, resume=False, overwrite=False,
                    "status_counts": json.dumps({st.describe(c): k for c, k in counts.items()})},
                    [v.name for v in storage.result_variables(cases.given)])
     _summary(cases.n_cases, counts, wall, computed)
-    return open_dataset(out) if as_dataset else out
+    return open_dataset(out) if as_dataset else out.absolute()
 
 
 def _run_local(cfg, pending, given_load, opts, writer, interrupt) -> None:
@@ -314,13 +323,21 @@ def _summary(n_cases: int, counts: dict[int, int], wall: float, computed: int) -
           f"{wall:.2f} s wall, {rate:,.0f} cases/s", file=sys.stderr)
 
 
+def _require_xarray():
+    """Check for xarray and h5netcdf before any work is done, not after."""
+    try:
+        import h5netcdf  # noqa: F401
+        import xarray  # noqa: F401
+    except ImportError:
+        raise ImportError("as_dataset needs xarray and h5netcdf: pip install 'fastbearing[xarray]'") from None
+
+
 def open_dataset(path):
     """Open a finished map as an ``xarray.Dataset`` (engine h5netcdf); refuses unfinished files."""
     path = Path(path)
     if not storage.is_complete(path):
         raise ValueError(f"{path} is not a finished fastbearing file")
-    try:
-        import xarray as xr
-    except ImportError:
-        raise ImportError("as_dataset needs xarray and h5netcdf: pip install 'fastbearing[xarray]'") from None
+    _require_xarray()
+    import xarray as xr
+
     return xr.open_dataset(path, engine="h5netcdf")

@@ -23,8 +23,8 @@ from pathlib import Path
 
 import numpy as np
 
-from . import storage
-from .api import num_threads, solver_settings
+from . import storage, validate
+from .api import check_threads, num_threads, solver_settings
 from .bearing import ROW, Bearing
 from .bearing_file import read_job_config
 from .grid import AXES, LONG_NAMES, UNITS, Axis, CaseSet, parse_axis, plan_blocks
@@ -32,6 +32,8 @@ from .sweep import passage_sweep
 
 _PASSAGE_KEYS = {"given", "points", "positions", "harmonics", "shaft_speed", "ball_diameter", "pitch_diameter",
                  "rotating", "method", "rtol", "max_iter", "chunk"}
+#: Most cage positions per period (a sanity bound: 64 resolve the ball-pass harmonics well).
+MAX_POSITIONS = 100_000
 #: The 15 independent entries of Kb, as (row, column, CSV column name with units).
 K_ENTRIES = [(i, j, f"k{a}{b}_{u}") for i, a in enumerate(("x", "y", "z", "tx", "ty"))
              for j, b in enumerate(("x", "y", "z", "tx", "ty")) if j >= i
@@ -87,13 +89,6 @@ class PassageConfig:
         return np.arange(self.positions) * self.period / self.positions
 
 
-def _int_key(spec: dict, key: str, default: int, low: int) -> int:
-    value = spec.get(key, default)
-    if isinstance(value, bool) or not isinstance(value, int) or value < low:
-        raise ValueError(f"passage.{key} must be an integer >= {low}, got {value!r}")
-    return value
-
-
 def _positive_key(spec: dict, key: str) -> float:
     value = spec[key]
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or value <= 0:
@@ -112,26 +107,17 @@ def read_config(config) -> PassageConfig:
         if key not in names and key not in _PASSAGE_KEYS:
             raise ValueError(f"passage: unknown key {key!r} for given = {given!r}; allowed: "
                              f"{sorted(_PASSAGE_KEYS | set(names))}")
-    positions = _int_key(spec, "positions", 64, 2)
-    harmonics = _int_key(spec, "harmonics", 8, 0)
-    chunk = _int_key(spec, "chunk", 4096, 1)
+    positions = validate.integer(spec.get("positions", 64), "passage.positions", low=2, high=MAX_POSITIONS)
+    harmonics = validate.integer(spec.get("harmonics", 8), "passage.harmonics", low=0, high=MAX_POSITIONS // 2)
+    chunk = validate.integer(spec.get("chunk", 4096), "passage.chunk", low=1, high=10_000_000)
     method = spec.get("method", "newton")
     solver_settings(bearing, method, spec.get("rtol"), spec.get("max_iter"))
     axes_given = [k for k in spec if k in names]
     if "points" in spec:
         if axes_given:
             raise ValueError(f"passage.points replaces the grid axes; remove {axes_given}")
-        points = spec["points"]
-        if not isinstance(points, list) or not points:
-            raise ValueError("passage.points must be a non-empty list of 5-number lists")
-        table = np.empty((len(points), 5))
-        for i, p in enumerate(points):
-            if not isinstance(p, list) or len(p) != 5:
-                raise ValueError(f"passage.points[{i}] must be 5 numbers ({', '.join(names)}), got {p!r}")
-            for j, v in enumerate(p):
-                if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
-                    raise ValueError(f"passage.points[{i}][{j}] must be a finite number, got {v!r}")
-                table[i, j] = v
+        points = validate.array(spec["points"], "passage.points", min_length=1)
+        table = np.array([validate.numbers_list(p, f"passage.points[{i}]", 5) for i, p in enumerate(points)])
         cases = CaseSet(given, table=table, table_dim="point")
     elif axes_given:
         axes = []
@@ -143,6 +129,7 @@ def read_config(config) -> PassageConfig:
             cases = CaseSet(given, table=cases.inputs(0, 1), table_dim="point")
     else:
         raise ValueError(f"passage needs points = [[...], ...] or grid axes ({', '.join(names)})")
+    cases.check_size("passage")
     speed = None
     speed_keys = [k for k in ("shaft_speed", "ball_diameter", "pitch_diameter") if k in spec]
     if speed_keys:
@@ -190,6 +177,22 @@ def variation_summary(K: np.ndarray) -> dict[str, np.ndarray]:
     return {"K_mean": mean, "K_min": lo, "K_max": hi, "K_variation": variation}
 
 
+def _variables(cfg: PassageConfig) -> list[storage.Variable]:
+    """Per point: the per-position results and the summaries over the period."""
+    V = storage.Variable
+    K_units = "N/mm, N*mm/rad, N/rad"
+    return storage.result_variables(cfg.cases.given, inner=("position",)) + [
+        V("K_mean", ("dof", "dof_col"), "f8", K_units, "mean of Kb over one period"),
+        V("K_min", ("dof", "dof_col"), "f8", K_units, "minimum of Kb over one period"),
+        V("K_max", ("dof", "dof_col"), "f8", K_units, "maximum of Kb over one period"),
+        V("K_variation", ("dof", "dof_col"), "f8", "%",
+          "peak-to-peak variation of Kb over one period in % of |mean| (nan where the mean is ~0)"),
+        V("K_amplitude", ("harmonic", "dof", "dof_col"), "f8", K_units,
+          "Fourier amplitude A_h of Kb: K = sum_h A_h cos(h*2*pi*position/positions + phi_h)"),
+        V("K_phase", ("harmonic", "dof", "dof_col"), "f8", "rad", "Fourier phase phi_h of Kb"),
+    ]
+
+
 def _create(cfg: PassageConfig, part: Path, blocks) -> list[storage.Variable]:
     import h5py
 
@@ -222,25 +225,14 @@ def _create(cfg: PassageConfig, part: Path, blocks) -> list[storage.Variable]:
         attrs.update(shaft_speed_rpm=cfg.speed.shaft_speed, rotating_ring=cfg.speed.rotating,
                      ball_diameter_mm=cfg.speed.ball_diameter, pitch_diameter_mm=cfg.speed.pitch_diameter,
                      cage_frequency_hz=fc, ball_pass_frequency_hz=cfg.period_order * fc)
-    V = storage.Variable
-    K_units = "N/mm, N*mm/rad, N/rad"
-    variables = storage.result_variables(cases.given, inner=("position",)) + [
-        V("K_mean", ("dof", "dof_col"), "f8", K_units, "mean of Kb over one period"),
-        V("K_min", ("dof", "dof_col"), "f8", K_units, "minimum of Kb over one period"),
-        V("K_max", ("dof", "dof_col"), "f8", K_units, "maximum of Kb over one period"),
-        V("K_variation", ("dof", "dof_col"), "f8", "%",
-          "peak-to-peak variation of Kb over one period in % of |mean| (nan where the mean is ~0)"),
-        V("K_amplitude", ("harmonic", "dof", "dof_col"), "f8", K_units,
-          "Fourier amplitude A_h of Kb: K = sum_h A_h cos(h*2*pi*position/positions + phi_h)"),
-        V("K_phase", ("harmonic", "dof", "dof_col"), "f8", "rad", "Fourier phase phi_h of Kb"),
-    ]
+    variables = _variables(cfg)
     opts = solver_settings(cfg.bearing, cfg.method, cfg.rtol, cfg.max_iter)
     attrs.update({
         "title": "fastbearing ball-passage stiffness table", "Conventions": "CF-1.8", "given": cases.given,
         "units_convention": "N, mm, rad; moments N*mm; stiffness N/mm, N*mm/rad, N/rad; time s",
         "config": cfg.text, "config_source": str(cfg.source or ""), "config_fingerprint": cfg.fingerprint,
         "bearing": cfg.bearing.describe(), "bearing_json": json.dumps(cfg.bearing.to_dict()),
-        "solver_method": cfg.method, "solver_rtol": opts["rtol"], "solver_max_iter": opts["max_iter"],
+        "solver_method": cfg.method, "solver_rtol": opts.rtol, "solver_max_iter": opts.max_iter,
         "positions": cfg.positions, "n_points": cases.n_cases, **storage.versions()})
     storage.create(part, case_dims, extra, scalars, variables, attrs, len(blocks), aux)
     return variables
@@ -266,15 +258,25 @@ def passage(config, output=None, *, threads=None, overwrite=False, csv_files=Fal
         Return an ``xarray.Dataset`` instead of the path.
     """
     cfg = config if isinstance(config, PassageConfig) else read_config(config)
+    check_threads(threads)
+    if as_dataset:
+        from .loadmap import _require_xarray
+
+        _require_xarray()
     if output is None:
         if cfg.source is None:
             raise ValueError("output is required when the config is not a file")
-        output = cfg.source.with_suffix(".h5")
+        output = Path(cfg.source.name).with_suffix(".h5")  # in the current folder, like every other output
     out = Path(output)
+    storage.check_output_path(out)
+    H = min(cfg.harmonics, cfg.positions // 2)
+    sizes = {"dof": 5, "dof_col": 5, "row": cfg.bearing.n_rows, "position": cfg.positions, "harmonic": H + 1}
+    storage.check_disk_space(out, cfg.cases.n_cases * storage.bytes_per_case(_variables(cfg), sizes),
+                             f"this table ({cfg.cases.n_cases} points x {cfg.positions} positions)")
     csv_paths = [out.with_name(f"{out.stem}_point{i:04d}.csv") for i in range(cfg.cases.n_cases)] if csv_files else []
     existing = [p for p in csv_paths if p.exists()]
     if existing and not overwrite:
-        raise ValueError(f"{existing[0]} exists; pass --overwrite (overwrite=True) to replace it")
+        raise ValueError(f"{existing[0]} exists; pass --overwrite to replace it")
     out, part, _ = storage.prepare_output(out, cfg.fingerprint, False, overwrite)
     cases = cfg.cases
     blocks = plan_blocks(cases.shape, 1, cfg.chunk)
@@ -297,9 +299,7 @@ def passage(config, output=None, *, threads=None, overwrite=False, csv_files=Fal
             passage_sweep(cases.inputs(block.start, block.stop), cases.given == "load", tables,
                           cfg.bearing.ball_exponents, res["q"], res["f"],
                           res["K"], res["status"], res["iterations"], res["residual"], res["max_ball_load"],
-                          res["loaded_balls"], res["min_contact_angle"], res["max_contact_angle"], ball_row,
-                          opts["method"], opts["rtol"], opts["max_iter"], opts["length_scale"],
-                          opts["force_floor"], opts["max_step"])
+                          res["loaded_balls"], res["min_contact_angle"], res["max_contact_angle"], ball_row, opts)
             res.update(variation_summary(res["K"]))
             res["K_amplitude"], res["K_phase"] = fourier(res["K"], cfg.harmonics)
             pf.write(block.slab, res)
@@ -322,7 +322,7 @@ def passage(config, output=None, *, threads=None, overwrite=False, csv_files=Fal
         from .loadmap import open_dataset
 
         return open_dataset(out)
-    return out
+    return out.absolute()
 
 
 def _write_csv(path: Path, cfg: PassageConfig, K: np.ndarray) -> None:

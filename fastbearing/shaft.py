@@ -20,7 +20,8 @@ from pathlib import Path
 import numpy as np
 
 from .api import SolveResult, solve, stiffness
-from .bearing import Bearing, check_keys
+from . import validate
+from .bearing import Bearing
 from .bearing_file import bearing_from_table, load_bearing, read_toml
 
 
@@ -191,18 +192,6 @@ _LOAD_KEYS = {"position", "force", "moment"}
 _MASS_KEYS = {"mass", "inertia_x", "inertia_y", "center"}
 
 
-def _number(where: str, value) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-        raise ValueError(f"{where} must be a finite number, got {value!r}")
-    return float(value)
-
-
-def _vector(where: str, value, n: int) -> tuple[float, ...]:
-    if not isinstance(value, list) or len(value) != n:
-        raise ValueError(f"{where} must be a list of {n} numbers, got {value!r}")
-    return tuple(_number(f"{where}[{i}]", v) for i, v in enumerate(value))
-
-
 def mirrored(bearing: Bearing) -> Bearing:
     """The same bearing mounted the other way round: axial offsets and contact directions flip."""
     return replace(bearing, rows=tuple(replace(r, axial_offset=-r.axial_offset,
@@ -212,23 +201,18 @@ def mirrored(bearing: Bearing) -> Bearing:
 def read_shaft(config) -> Shaft:
     """A shaft from a TOML file (or parsed dict) with a ``[shaft]`` table; bearing files are found
     relative to the config. ValueError names the offending field."""
+    v = validate
     base = None
     if not isinstance(config, dict):
         base = Path(config).parent
         config = read_toml(config)
-    unknown = sorted(set(config) - {"shaft"})
-    if unknown or "shaft" not in config:
-        raise ValueError(f"a shaft config holds one [shaft] table; unknown {unknown}" if unknown
-                         else "missing the [shaft] table")
-    spec = config["shaft"]
-    check_keys(spec, _SHAFT_KEYS, "shaft")
-    reference = _number("shaft.reference", spec.get("reference", 0.0))
+    v.table(config, "the shaft config", {"shaft"}, ("shaft",))
+    spec = v.table(config["shaft"], "shaft", _SHAFT_KEYS)
+    reference = v.number(spec.get("reference", 0.0), "shaft.reference", units="mm")
     bearings = []
-    for i, b in enumerate(spec.get("bearings", [])):
+    for i, b in enumerate(v.array(spec.get("bearings", []), "shaft.bearings")):
         where = f"shaft.bearings[{i}]"
-        check_keys(b, _BEARING_KEYS, where)
-        if "position" not in b or "bearing" not in b:
-            raise ValueError(f"{where} needs position (mm) and bearing (a file or an inline table)")
+        v.table(b, where, _BEARING_KEYS, ("position", "bearing"))
         source = b["bearing"]
         if isinstance(source, str):
             path = Path(source)
@@ -238,29 +222,26 @@ def read_shaft(config) -> Shaft:
         elif isinstance(source, dict):
             bearing = bearing_from_table(source, where=f"{where}.bearing")
         else:
-            raise ValueError(f"{where}.bearing must be a file name or a table, got {source!r}")
-        if b.get("mirrored", False):
+            raise v.FieldError(f"{where}.bearing", "must be a bearing file name or a [bearing] table", source)
+        if v.boolean(b.get("mirrored", False), f"{where}.mirrored"):
             bearing = mirrored(bearing)
-        bearings.append(MountedBearing(_number(f"{where}.position", b["position"]), bearing, str(b.get("name", ""))))
+        bearings.append(MountedBearing(v.number(b["position"], f"{where}.position", units="mm"), bearing,
+                                       v.text(b.get("name", ""), f"{where}.name")))
     loads = []
-    for i, p in enumerate(spec.get("loads", [])):
+    for i, p in enumerate(v.array(spec.get("loads", []), "shaft.loads")):
         where = f"shaft.loads[{i}]"
-        check_keys(p, _LOAD_KEYS, where)
-        loads.append(PointLoad(_number(f"{where}.position", p.get("position", 0.0)),
-                               _vector(f"{where}.force", p.get("force", [0.0, 0.0, 0.0]), 3),
-                               _vector(f"{where}.moment", p.get("moment", [0.0, 0.0]), 2)))
+        v.table(p, where, _LOAD_KEYS)
+        loads.append(PointLoad(v.number(p.get("position", 0.0), f"{where}.position", units="mm"),
+                               tuple(v.numbers_list(p.get("force", [0.0, 0.0, 0.0]), f"{where}.force", 3)),
+                               tuple(v.numbers_list(p.get("moment", [0.0, 0.0]), f"{where}.moment", 2))))
     inertia = None
     if "mass" in spec:
-        m = spec["mass"]
-        unknown = sorted(set(m) - _MASS_KEYS)
-        missing = sorted(_MASS_KEYS - set(m) - {"center"})
-        if unknown or missing:
-            raise ValueError(f"shaft.mass needs mass (kg), inertia_x, inertia_y (kg*mm^2) and optionally "
-                             f"center (mm); unknown {unknown}, missing {missing}")
-        values = {k: _number(f"shaft.mass.{k}", m[k]) for k in ("mass", "inertia_x", "inertia_y")}
-        for k, v in values.items():
-            if v <= 0:
-                raise ValueError(f"shaft.mass.{k} must be > 0, got {v!r}")
+        m = v.table(spec["mass"], "shaft.mass", _MASS_KEYS, ("mass", "inertia_x", "inertia_y"))
+        values = {k: v.number(m[k], f"shaft.mass.{k}", low=0, low_open=True, units=units)
+                  for k, units in (("mass", "kg"), ("inertia_x", "kg*mm^2"), ("inertia_y", "kg*mm^2"))}
         inertia = Inertia(values["mass"], values["inertia_x"], values["inertia_y"],
-                          _number("shaft.mass.center", m.get("center", reference)))
+                          v.number(m.get("center", reference), "shaft.mass.center", units="mm"))
+    if not bearings:
+        raise v.FieldError("shaft.bearings", "must list at least one bearing ([[shaft.bearings]] with position "
+                           "and bearing)", show_value=False)
     return Shaft(reference, tuple(bearings), tuple(loads), inertia)

@@ -90,8 +90,51 @@ def result_variables(given: str, inner: tuple[str, ...] = ()) -> list[Variable]:
     ]
 
 
+def check_output_path(out: Path) -> None:
+    """One-line ValueError unless ``out`` can be written: its folder exists and is writable, and it is
+    not itself a folder. Called before anything is computed or created."""
+    folder = out.parent if str(out.parent) else Path(".")
+    if out.is_dir():
+        raise ValueError(f"output {out} is a directory; give a file name such as {out / 'map.h5'}")
+    if not folder.is_dir():
+        raise ValueError(f"output folder {folder} does not exist (create it first, or choose another -o)")
+    if not os.access(folder, os.W_OK | os.X_OK):
+        raise ValueError(f"output folder {folder} is not writable")
+
+
+def check_disk_space(out: Path, n_bytes: int, what: str) -> None:
+    """Refuse, before creating anything, a file that cannot fit on the output's disk."""
+    import shutil
+
+    folder = out.parent if str(out.parent) else Path(".")
+    free = shutil.disk_usage(folder).free
+    if n_bytes > free:
+        raise ValueError(f"{what} needs about {_size(n_bytes)} but {folder} has {_size(free)} free; make the grid "
+                         "smaller or write elsewhere (-o)")
+
+
+def _size(n: float) -> str:
+    for unit in ("B", "kB", "MB", "GB", "TB", "PB"):
+        if n < 1000 or unit == "PB":
+            return f"{n:.3g} {unit}"
+        n /= 1000.0
+    return f"{n:.3g} PB"
+
+
+def bytes_per_case(variables: list[Variable], sizes: dict[str, int]) -> int:
+    """Bytes one case takes in the file: every variable with its trailing dims (``sizes`` by dim name)."""
+    total = 0
+    for v in variables:
+        n = np.dtype(v.dtype).itemsize
+        for d in v.trailing:
+            n *= sizes[d]
+        total += n
+    return total
+
+
 def prepare_output(out: Path, fingerprint: str, resume: bool, overwrite: bool) -> tuple[Path, Path, bool]:
     """Final path, working path, and whether to resume; refuses to clobber anything unasked."""
+    check_output_path(out)
     part = part_path(out)
     if resume and overwrite:
         raise ValueError("choose one of resume and overwrite")
@@ -113,7 +156,7 @@ def prepare_output(out: Path, fingerprint: str, resume: bool, overwrite: bool) -
     elif resume and not out.exists():
         raise ValueError(f"nothing to resume: {part} does not exist")
     if out.exists() and not overwrite and not resume:
-        raise ValueError(f"{out} exists; pass --overwrite (overwrite=True) to replace it")
+        raise ValueError(f"{out} exists; pass --overwrite to replace it")
     return out, part, False
 
 

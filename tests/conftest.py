@@ -52,6 +52,12 @@ def paper_double(request):
     return fb.Bearing.preset("gunduz2013", request.param)
 
 
+@pytest.fixture(autouse=True)
+def _run_in_a_temporary_folder(tmp_path, monkeypatch):
+    """Every test runs in its own folder: outputs that default to the current folder never reach the checkout."""
+    monkeypatch.chdir(tmp_path)
+
+
 @pytest.fixture
 def rng():
     return np.random.default_rng(20131122)

@@ -15,18 +15,30 @@ GOOD_ROW = dict(n_balls=14, hertz_constant=395000.0, pitch_radius=34.75, groove_
 
 
 @pytest.mark.parametrize("field, value, words", [
-    ("n_balls", 0, "n_balls must be an integer >= 1"),
-    ("n_balls", 2.5, "n_balls must be an integer >= 1"),
-    ("hertz_constant", 0.0, "hertz_constant must be > 0"),
+    ("n_balls", 0, "n_balls must be an integer in [1, 10000]"),
+    ("n_balls", 2.5, "n_balls must be an integer in [1, 10000]"),
+    ("n_balls", math.inf, "n_balls must be an integer in [1, 10000], got inf"),
+    ("n_balls", math.nan, "n_balls must be an integer in [1, 10000], got nan"),
+    ("n_balls", 1_000_000_000, "n_balls must be an integer in [1, 10000]"),
+    ("n_balls", "12", "n_balls must be an integer in [1, 10000], got '12'"),
+    ("hertz_constant", 0.0, "hertz_constant must be > 0 N/mm^n"),
     ("hertz_constant", math.nan, "hertz_constant must be finite"),
-    ("groove_center_distance", -0.1, "groove_center_distance must be > 0"),
-    ("pitch_radius", 0.0, "pitch_radius must be > 0"),
-    ("exponent", 1.0, "exponent must be > 1"),
+    ("hertz_constant", True, "hertz_constant must be a number > 0 N/mm^n, got True"),
+    ("hertz_constant", "395000", "hertz_constant must be a number"),
+    ("groove_center_distance", -0.1, "groove_center_distance must be > 0 mm"),
+    ("pitch_radius", 0.0, "pitch_radius must be > 0 mm"),
+    ("exponent", 1.0, "exponent must be in (1, 3]"),
     ("contact_angle", 90.0, "contact_angle must be in [0, 90) degrees"),
     ("contact_angle", -1.0, "contact_angle must be in [0, 90) degrees"),
-    ("radial_clearance", -0.01, "radial_clearance must be >= 0"),
+    ("radial_clearance", 10.0, "radial_clearance must be < A0 cos(a0) = 0.450333 mm (beyond it the inner and "
+                               "outer groove centres cross)"),
+    ("radial_clearance", -0.1, "radial_clearance must be >= -0.0591607 mm: a radial preload (negative clearance) "
+                               "may deflect each ball by at most 0.1 A0 = 0.052 mm"),
+    ("axial_preload", 0.5, "axial_preload must be <= 0.0926812 mm"),
+    ("axial_preload", -0.3, "axial_preload must be >= -A0 sin(a0) = -0.26 mm"),
     ("axial_offset", math.inf, "axial_offset must be finite"),
     ("contact_direction", 0, "contact_direction must be +1 or -1"),
+    ("contact_direction", True, "contact_direction must be +1 or -1"),
     ("first_ball_angle", "abc", "first_ball_angle must be a number"),
 ])
 def test_bad_row_values_name_the_field(field, value, words):
@@ -37,6 +49,7 @@ def test_bad_row_values_name_the_field(field, value, words):
 def test_preload_with_clearance_is_rejected():
     with pytest.raises(ValueError, match="axial_preload must be 0 when radial_clearance > 0"):
         fb.Row(**GOOD_ROW, radial_clearance=0.01, axial_preload=0.01)
+    fb.Row(**GOOD_ROW, radial_clearance=-0.005, axial_preload=0.01)  # radial and axial preload together
 
 
 def test_double_row_errors_name_the_row():
@@ -48,6 +61,16 @@ def test_double_row_errors_name_the_row():
         fb.Bearing.double("DB", -1.0, **GOOD_ROW)
     with pytest.raises(ValueError, match="axial_preload must be one number or a list of 2"):
         fb.Bearing.double("DB", 10.0, axial_preload=[0.0, 0.0, 0.0], **GOOD_ROW)
+    with pytest.raises(ValueError, match="axial_offset is set by the arrangement of a double row"):
+        fb.Bearing.double("DB", 10.0, axial_offset=3.0, **GOOD_ROW)
+
+
+@pytest.mark.parametrize("rows, words", [([5], "rows[0] must be a table, not int"),
+                                         (None, "rows must be a list, not NoneType"),
+                                         ([], "rows must hold at least 1 item(s), got 0")])
+def test_from_rows_refuses_what_is_not_rows(rows, words):
+    with pytest.raises(ValueError, match=re.escape(words)):
+        fb.Bearing.from_rows(rows)
 
 
 def test_double_row_layout_follows_model_table():
@@ -115,10 +138,10 @@ def test_preset_in_a_file_with_overrides(tmp_path):
     ('[bearing]\npreset = "gunduz2013"\narrangement = "XY"\n', "arrangement must be one of"),
     ('[bearing]\npreset = "nope"\n', "preset must be one of"),
     ('[bearing]\npreset = "gunduz2013"\n[extra]\n', r"unknown top-level key\(s\) \['extra'\]"),
-    ('[bearing]\npreset = "gunduz2013"\nn_balls = 0\n', r"bearing\.n_balls must be an integer >= 1"),
+    ('[bearing]\npreset = "gunduz2013"\nn_balls = 0\n', r"bearing\.n_balls must be an integer in \[1, 10000\]"),
     ('[bearing]\narrangement = "single"\nn_balls = 14\n', "missing required key"),
     ('[bearing]\narrangement = "DB"\nn_balls = 14\n', r"row_offset \(e, mm, >= 0\) is required"),
-    ('[bearing]\n[[bearing.rows]]\nn_balls = 3\nbogus = 1\n', r"bearing\.rows\[0\]: unknown key"),
+    ('[bearing]\n[[bearing.rows]]\nn_balls = 3\nbogus = 1\n', r"bearing\.rows\[0\] has unknown key"),
     ('[bearing\n', "not valid TOML"),
     ('x = 1\n', r"unknown top-level key"),
 ])

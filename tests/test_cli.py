@@ -3,10 +3,12 @@
 import json
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
 
+ROOT = Path(__file__).resolve().parents[1]
 CLI = [sys.executable, "-m", "fastbearing.cli"]
 
 
@@ -31,7 +33,7 @@ def test_negative_first_component_and_table_output(tmp_path):
 
 
 def test_displacement_given(tmp_path):
-    p = run("solve", "--bearing", "data/bearings/gunduz2013.toml", "--displacement", "0.05,0,0,0,0", "--json")
+    p = run("solve", "--bearing", f"{ROOT}/data/bearings/gunduz2013.toml", "--displacement", "0.05,0,0,0,0", "--json")
     out = json.loads(p.stdout)
     assert out["status"] == "direct" and 15e3 < out["f"][0] < 25e3
 

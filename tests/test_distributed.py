@@ -107,9 +107,9 @@ def test_cli_dask_flag(tmp_path):
     cfg.write_text('[bearing]\npreset = "gunduz2013"\narrangement = "DB"\n[loadmap]\nFx = [500.0, 1000.0]\n'
                    "Fz = { start = 500.0, stop = 3000.0, num = 4 }\n")
     p = subprocess.run([sys.executable, "-m", "fastbearing.cli", "loadmap", str(cfg), "--dask", "local:2"],
-                       capture_output=True, text=True, timeout=300)
+                       capture_output=True, text=True, timeout=300, cwd=tmp_path)
     assert p.returncode == 0, p.stderr
     assert fb.open_dataset(tmp_path / "m.h5").attrs["engine"] == "dask"
     bad = subprocess.run([sys.executable, "-m", "fastbearing.cli", "loadmap", str(cfg), "--dask", "local:0",
-                          "--overwrite"], capture_output=True, text=True, timeout=300)
+                          "--overwrite"], capture_output=True, text=True, timeout=300, cwd=tmp_path)
     assert bad.returncode == 2 and "worker count N >= 1" in bad.stderr

@@ -52,7 +52,11 @@ def assert_identical(a, b):
 @pytest.mark.parametrize("body, words", [
     ("Fx = 1.0\nFoo = 2.0\n", "unknown key 'Foo'"),
     ("Fx = []\n", "loadmap.Fx is an empty list"),
-    ("Fx = { start = 0.0, stop = 1.0, num = 0 }\n", r"loadmap.Fx.num must be an integer >= 1"),
+    ("Fx = { start = 0.0, stop = 1.0, num = 0 }\n", r"loadmap.Fx.num must be an integer in \[1, 1e\+07\]"),
+    ("Fx = { start = 0.0, stop = 1.0, num = 1000000000000 }\n", r"loadmap.Fx.num must be an integer in \[1, 1e\+07\]"),
+    ("Fx = { start = 0.0, stop = 1.0, num = 100000 }\nFz = { start = 0.0, stop = 1.0, num = 100000 }\n"
+     "My = { start = 0.0, stop = 1.0, num = 100000 }\n", "1e\\+15 cases is more than one map may hold"),
+    ("Fx = true\n", "loadmap.Fx must be a number, got True"),
     ("Fx = { start = 0.0, stop = nan, num = 3 }\n", "loadmap.Fx.stop must be finite"),
     ("Fx = [1.0, inf]\n", r"loadmap.Fx\[1\] must be finite"),
     ("Fx = { start = 0.0, num = 3 }\n", r"missing \['stop'\]"),
@@ -100,7 +104,7 @@ def test_blocks_are_hyperslabs_of_whole_lines(shape, chunk):
 @pytest.fixture(scope="module")
 def small_map(tmp_path_factory):
     tmp = tmp_path_factory.mktemp("map")
-    return loadmap(config(tmp, SMALL), progress=False)
+    return loadmap(config(tmp, SMALL), tmp / "map.h5", progress=False)
 
 
 def test_identical_for_any_thread_count_and_chunk_size(tmp_path, small_map):

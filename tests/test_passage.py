@@ -182,13 +182,14 @@ def test_time_axis_csv_and_cli(tmp_path):
 
 
 @pytest.mark.parametrize("body, words", [
-    ("points = [[0.05, 0.0, 0.0]]\n", r"passage.points\[0\] must be 5 numbers"),
-    ("points = []\n", "passage.points must be a non-empty list"),
-    ('points = [[0.05, 0.0, 0.0, 0.0, "a"]]\n', r"passage.points\[0\]\[4\] must be a finite number"),
+    ("points = [[0.05, 0.0, 0.0]]\n", r"passage.points\[0\] must be a list of 5 items, got 3"),
+    ("points = []\n", r"passage.points must hold at least 1 item\(s\)"),
+    ('points = [[0.05, 0.0, 0.0, 0.0, "a"]]\n', r"passage.points\[0\]\[4\] must be a number, got 'a'"),
     ("points = [[0.05, 0, 0, 0, 0]]\nshaft_speed = 3000.0\n", "needs shaft_speed .* together"),
     ("points = [[0.05, 0, 0, 0, 0]]\nshaft_speed = 3000.0\nball_diameter = 80.0\npitch_diameter = 70.0\n",
      "ball_diameter .* must be smaller than pitch_diameter"),
-    ("points = [[0.05, 0, 0, 0, 0]]\npositions = 1\n", "passage.positions must be an integer >= 2"),
+    ("points = [[0.05, 0, 0, 0, 0]]\npositions = 1\n", r"passage.positions must be an integer in \[2, 100000\]"),
+    ("points = [[0.05, 0, 0, 0, 0]]\npositions = 1000000000\n", r"passage.positions must be an integer in \[2, 100000\]"),
     ("points = [[0.05, 0, 0, 0, 0]]\nspeed = 1\n", "passage: unknown key 'speed'"),
     ("dx = 0.05\npoints = [[0.05, 0, 0, 0, 0]]\n", "passage.points replaces the grid axes"),
     ("positions = 8\n", "passage needs points"),

@@ -110,12 +110,17 @@ def test_table5_lesson_pairs_split_under_radial_load_and_coupling_matters():
 
 @pytest.mark.parametrize("body, words", [
     ("reference = 74.0\n", "at least one bearing"),
-    ('reference = 74.0\nfoo = 1\n', r"shaft: unknown key\(s\) \['foo'\]"),
-    ('[[shaft.bearings]]\nbearing = "x.toml"\n', "needs position"),
-    ('[[shaft.bearings]]\nposition = 0.0\nbearing = 3\n', "must be a file name or a table"),
+    ('reference = 74.0\nfoo = 1\n', r"shaft has unknown key\(s\) \['foo'\]"),
+    ('[[shaft.bearings]]\nbearing = "x.toml"\n', r"shaft.bearings\[0\] is missing required key\(s\) \['position'\]"),
+    ('[[shaft.bearings]]\nposition = 0.0\nbearing = 3\n', "must be a bearing file name or a \\[bearing\\] table"),
+    ('bearings = [1, 2]\n', r"shaft.bearings\[0\] must be a table, not int"),
+    ('reference = 0.0\nloads = [5]\n', r"shaft.loads\[0\] must be a table, not int"),
+    ('[[shaft.bearings]]\nposition = 0.0\nmirrored = "false"\n[shaft.bearings.bearing]\npreset = "gunduz2013"\n',
+     r"shaft.bearings\[0\].mirrored must be true or false, got 'false'"),
+    ('[[shaft.bearings]]\nposition = 0.0\n[shaft.bearings.bearing]\npreset = "gunduz2013"\n[shaft]\n', "not valid TOML"),
     ('[[shaft.bearings]]\nposition = 0.0\nbearing = "missing.toml"\n', "file not found"),
     ('[[shaft.bearings]]\nposition = 0.0\n[shaft.bearings.bearing]\npreset = "gunduz2013"\n'
-     '[[shaft.loads]]\nforce = [1.0, 2.0]\n', r"shaft.loads\[0\].force must be a list of 3 numbers"),
+     '[[shaft.loads]]\nforce = [1.0, 2.0]\n', r"shaft.loads\[0\].force must be a list of 3 items, got 2"),
     ('[[shaft.bearings]]\nposition = 0.0\n[shaft.bearings.bearing]\npreset = "gunduz2013"\n'
      '[shaft.mass]\nmass = -1.0\ninertia_x = 1.0\ninertia_y = 1.0\n', "shaft.mass.mass must be > 0"),
 ])
@@ -124,6 +129,18 @@ def test_bad_shaft_configs(tmp_path, body, words):
     path.write_text("[shaft]\n" + body if not body.startswith("[[") else "[shaft]\nreference = 0.0\n" + body)
     with pytest.raises(ValueError, match=words):
         sh.read_shaft(path)
+
+
+@pytest.mark.parametrize("text, words", [("shaft = 5\n", "shaft must be a table, not int"),
+                                         ("[shaft]\nreference = 0.0\nmass = 5.0\n", "shaft.mass must be a table"),
+                                         ("x = 1\n", r"the shaft config has unknown key\(s\) \['x'\]")])
+def test_shaft_config_shapes(tmp_path, text, words):
+    path = tmp_path / "shaft.toml"
+    path.write_text(text)
+    with pytest.raises(ValueError, match=words):
+        sh.read_shaft(path)
+
+
 
 
 def test_shaft_config_with_files_and_inline_bearings(tmp_path):

@@ -1,0 +1,132 @@
+"""Per-ball results at one operating point: load, deflection, contact angle and the Hertz contact.
+
+Above the API: it reads the ball loads from :func:`fastbearing.ball_loads`
+(the one ball loop) and, for a bearing with catalogue geometry, evaluates
+each loaded ball's inner and outer race contact with
+:mod:`fastbearing.geometry`. Units: N, mm, rad; pressures in N/mm^2.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, fields
+
+import numpy as np
+
+from .api import ball_loads
+from .bearing import Bearing
+from .geometry import HertzContact
+
+
+@dataclass(frozen=True)
+class BallContacts:
+    """What happens at every ball of a bearing at one displacement q.
+
+    Arrays of length n_balls, ordered row by row, each row from its first
+    ball (as :func:`fastbearing.ball_loads`). The contact fields are None
+    when the bearing has no catalogue geometry.
+
+    Attributes
+    ----------
+    row, ball : ndarray of int
+        Row index and ball index within the row.
+    azimuth : ndarray
+        psi, ball azimuth in rad, in [0, 2 pi).
+    deflection : ndarray
+        delta = (Q/Kn)^(1/n), total elastic approach of the ball (both contacts), mm.
+    load : ndarray
+        Q, ball load in N.
+    contact_angle : ndarray
+        alpha, loaded contact angle in rad, signed on the row's contact direction.
+    inner_max_pressure, outer_max_pressure : ndarray or None
+        Maximum Hertz pressure at the inner / outer race, N/mm^2 (MPa).
+    inner_semi_major, inner_semi_minor, outer_semi_major, outer_semi_minor : ndarray or None
+        Contact-ellipse semi-axes a (across the groove) and b (rolling direction), mm.
+    """
+
+    row: np.ndarray
+    ball: np.ndarray
+    azimuth: np.ndarray
+    deflection: np.ndarray
+    load: np.ndarray
+    contact_angle: np.ndarray
+    inner_max_pressure: np.ndarray | None = None
+    inner_semi_major: np.ndarray | None = None
+    inner_semi_minor: np.ndarray | None = None
+    outer_max_pressure: np.ndarray | None = None
+    outer_semi_major: np.ndarray | None = None
+    outer_semi_minor: np.ndarray | None = None
+
+    @property
+    def has_contacts(self) -> bool:
+        return self.inner_max_pressure is not None
+
+    def max_pressure_per_row(self) -> np.ndarray | None:
+        """Largest contact pressure of each row over both races, N/mm^2 (None without geometry)."""
+        if not self.has_contacts:
+            return None
+        worst = np.maximum(self.inner_max_pressure, self.outer_max_pressure)
+        return np.array([worst[self.row == r].max(initial=0.0) for r in range(int(self.row.max()) + 1)])
+
+    def to_records(self) -> list[dict]:
+        """One JSON-ready dict per ball (lengths mm, angles rad, loads N, pressures N/mm^2)."""
+        names = [f.name for f in fields(self) if getattr(self, f.name) is not None]
+        records = []
+        for i in range(len(self.load)):
+            rec = {}
+            for n in names:
+                v = getattr(self, n)[i]
+                rec[n] = int(v) if n in ("row", "ball") else float(v)
+            records.append(rec)
+        return records
+
+
+def ball_contacts(bearing: Bearing, q) -> BallContacts:
+    """Per-ball load, deflection, contact angle and (with geometry) Hertz contact at displacement q.
+
+    Ball loads and loaded contact angles come from :func:`fastbearing.ball_loads`
+    (the one ball loop); the deflection is delta = (Q/Kn)^(1/n). With a
+    catalogue geometry (``bearing.geometry``), each loaded ball's inner and
+    outer contacts are evaluated at its own loaded contact angle (the
+    rolling-plane curvature depends on it through gamma = D cos(alpha)/dm),
+    giving the maximum pressure and the ellipse semi-axes.
+
+    Parameters
+    ----------
+    bearing : Bearing
+    q : sequence of 5 floats
+        (dx, dy, dz, bx, by) in mm and rad, e.g. ``solve(bearing, f).q``.
+
+    Returns
+    -------
+    BallContacts
+    """
+    Q, alpha = ball_loads(bearing, q)
+    rows, balls, psi, kn, n = [], [], [], [], []
+    for i, r in enumerate(bearing.rows):
+        j = np.arange(r.n_balls)
+        rows.append(np.full(r.n_balls, i))
+        balls.append(j)
+        psi.append(np.mod(math.radians(r.first_ball_angle) + 2.0 * math.pi * j / r.n_balls, 2.0 * math.pi))
+        kn.append(np.full(r.n_balls, r.hertz_constant))
+        n.append(np.full(r.n_balls, r.exponent))
+    kn, n = np.concatenate(kn), np.concatenate(n)
+    delta = (np.maximum(Q, 0.0) / kn) ** (1.0 / n)
+    base = dict(row=np.concatenate(rows), ball=np.concatenate(balls), azimuth=np.concatenate(psi),
+                deflection=delta, load=Q, contact_angle=alpha)
+    geometry = getattr(bearing, "geometry", None)
+    if geometry is None:
+        return BallContacts(**base)
+    out = {k: np.zeros(len(Q)) for k in ("inner_max_pressure", "inner_semi_major", "inner_semi_minor",
+                                          "outer_max_pressure", "outer_semi_major", "outer_semi_minor")}
+    cache: dict[float, tuple[HertzContact, HertzContact]] = {}
+    for i in np.flatnonzero(Q > 0):
+        a = abs(float(alpha[i]))
+        if a not in cache:
+            cache[a] = geometry.contacts(a)
+        for side, contact in zip(("inner", "outer"), cache[a]):
+            major, minor = contact.semi_axes(Q[i])
+            out[f"{side}_max_pressure"][i] = contact.max_pressure(Q[i])
+            out[f"{side}_semi_major"][i] = major
+            out[f"{side}_semi_minor"][i] = minor
+    return BallContacts(**base, **out)
