@@ -100,9 +100,7 @@ def _as_vector(values, name: str, units: str) -> np.ndarray:
 
 
 def _method(method: str) -> int:
-    if method not in METHODS:
-        raise ValueError(f"method must be one of {sorted(METHODS)}, got {method!r}")
-    return METHODS[method]
+    return METHODS[validate.choice(method, "method", sorted(METHODS))]
 
 
 def _bounded(name, value, default, low, high, integer=False):

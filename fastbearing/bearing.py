@@ -36,6 +36,14 @@ MAX_BALLS = 10_000
 PRELOAD_DEFLECTION_LIMIT = 0.1
 
 
+def free_contact_angle(groove_center_distance: float, contact_angle: float, radial_clearance: float) -> float:
+    """a_f in rad: cos(a_f) = cos(a0) - rL/A0 for a row with radial play rL > 0 (a0 in rad; A0, rL in mm),
+    a0 when rL <= 0. For a deep-groove row (a0 = 0): cos(a_f) = 1 - Pd/(2 A0)."""
+    if radial_clearance <= 0:
+        return contact_angle
+    return math.acos(math.cos(contact_angle) - radial_clearance / groove_center_distance)
+
+
 def _check_finite(name: str, value) -> float:
     """A finite number (not a bool or a string); ValueError naming ``name``."""
     return validate.number(value, name)
@@ -110,6 +118,30 @@ class Row:
         set_(self, "radial_clearance", v.number(self.radial_clearance, "radial_clearance", units="mm"))
         set_(self, "axial_preload", v.number(self.axial_preload, "axial_preload", units="mm"))
         self._check_clearance_and_preload()
+
+    @property
+    def free_contact_angle(self) -> float:
+        """a_f in rad: the contact angle once a pure axial load takes up the radial play (rL > 0):
+        cos(a_f) = cos(a0) - rL/A0; a0 itself when there is no play (rL <= 0)."""
+        return free_contact_angle(self.groove_center_distance, math.radians(self.contact_angle),
+                                  self.radial_clearance)
+
+    @property
+    def rest_deflection(self) -> float:
+        """delta0 in mm: each ball's deflection at q = 0 set by a preload (radial interference, axial
+        preload); 0 without preload."""
+        a0 = math.radians(self.contact_angle)
+        u = math.hypot(self.groove_center_distance * math.cos(a0) - self.radial_clearance,
+                       self.groove_center_distance * math.sin(a0) + self.axial_preload)
+        return max(u - self.groove_center_distance, 0.0)
+
+    @property
+    def rest_contact_angle(self) -> float:
+        """The contact angle in rad at q = 0 of a preloaded row (radial interference lowers it, an axial
+        preload raises it); a0 without preload."""
+        a0 = math.radians(self.contact_angle)
+        return math.atan2(self.groove_center_distance * math.sin(a0) + self.axial_preload,
+                          self.groove_center_distance * math.cos(a0) - self.radial_clearance)
 
     def _check_clearance_and_preload(self) -> None:
         """Keep the groove centres where the model holds (MODEL.md): on their own sides, and a preload

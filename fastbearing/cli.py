@@ -351,56 +351,48 @@ def _matrix(title, K) -> str:
 
 
 def _export(args) -> int:
-    import json as _json
     from pathlib import Path
 
-    from . import export
+    from . import export, storage
 
-    source = Path(args.source)
-    if not source.exists():
-        raise ValueError(f"file not found: {source}")
-    extra = {}
-    if source.suffix.lower() == ".json":
-        try:
-            body = _json.loads(source.read_text())
-        except ValueError:
-            raise ValueError(f"{source} is not JSON from `fastbearing solve --json` or `shaft --json`") from None
-        key = "K" if "K" in body else "K_system" if "K_system" in body else None
-        if key is None:
-            raise ValueError(f"{source} has no K or K_system: use the output of `solve --json` or `shaft --json`")
-        K = np.array(body[key], dtype=float)
-        extra = {k: body[k] for k in ("q", "f", "status") if k in body}
-    elif source.suffix.lower() in (".h5", ".hdf5"):
-        import h5py
-
-        try:
-            with h5py.File(source, "r") as fh:
-                if "K" not in fh:
-                    raise ValueError(f"{source} is not a fastbearing map or table (no variable K)")
-                K = fh["K"][...].reshape(-1, 5, 5)
-        except OSError:
-            raise ValueError(f"{source} is not a readable HDF5 file") from None
-        if args.case is not None:
-            if not 0 <= args.case < len(K):
-                raise ValueError(f"--case must be in [0, {len(K) - 1}], got {args.case}")
-            K = K[args.case]
-    else:
-        raise ValueError(f"SOURCE must be a .json or .h5 file, got {source.name!r}")
     out = Path(args.output)
-    if args.format in ("dmig", "ross") and np.ndim(K) == 3 and len(K) == 1:
-        K = K[0]
-    if args.format in ("dmig", "ross") and np.ndim(K) == 3:
-        raise ValueError(f"--format {args.format} takes one matrix: pick a case of {source.name} with --case N")
+    storage.check_output_path(out)
+    if out.exists() and not args.overwrite:
+        raise ValueError(f"{out} exists; pass --overwrite to replace it")
+    if args.format != "dmig" and (args.grid != 1 or args.ground_grid is not None or args.name != "KBRG"):
+        raise ValueError("--grid, --ground-grid and --name go with --format dmig")
+    if args.format != "ross" and args.node != 0:
+        raise ValueError("--node goes with --format ross")
+    source = export.read_source(args.source, args.case)
+    K = source.K[0] if source.K.ndim == 3 and len(source.K) == 1 else source.K
+    if not np.isfinite(K).all():
+        raise ValueError(f"{args.source}: K is not finite (a case that did not solve)")
+    bad = source.unconverged
+    if args.format in ("dmig", "ross"):
+        if np.ndim(K) == 3:
+            raise ValueError(f"--format {args.format} takes one matrix: pick a case of {Path(args.source).name} "
+                             "with --case N")
+        if bad:
+            raise ValueError(f"{args.source}: the case's solve did not converge (status {source.status[0]}); "
+                             f"a {args.format} model would take its Kb as true")
+    elif bad:
+        print(f"fastbearing: warning: {len(bad)} of {len(source.status)} cases did not converge "
+              f"(first: case {bad[0]}, {source.status[bad[0]]}); their Kb is written as computed",
+              file=sys.stderr)
     if args.format == "csv":
         export.write_csv(out, K, overwrite=args.overwrite)
     elif args.format == "json":
-        export.write_json(out, K, overwrite=args.overwrite, extra=extra)
+        export.write_json(out, K, overwrite=args.overwrite, extra=source.extra)
     elif args.format == "npz":
         export.write_npz(out, K, overwrite=args.overwrite)
     elif args.format == "dmig":
+        if args.grid < 1 or (args.ground_grid is not None and (args.ground_grid < 1 or args.ground_grid == args.grid)):
+            raise ValueError("--grid and --ground-grid must be different positive grid ids")
         export.write_dmig(out, K, grid=args.grid, name=args.name, ground_grid=args.ground_grid,
                           overwrite=args.overwrite)
     else:
+        if args.node < 0:
+            raise ValueError(f"--node must be a shaft node number >= 0, got {args.node}")
         import warnings
 
         with warnings.catch_warnings(record=True) as caught:
@@ -449,16 +441,14 @@ def _bearing_report(bearing) -> dict:
     """Derived parameters of every row (lengths mm, angles deg and rad, Kn N/mm^n) and of the geometry."""
     rows = []
     for r in bearing.rows:
-        a0 = math.radians(r.contact_angle)
-        # pure axial load takes up the clearance: cos(a_f) = cos(a0) - rL/A0 (deep groove: 1 - Pd/(2 A0))
-        c = math.cos(a0) - r.radial_clearance / r.groove_center_distance
-        af = math.acos(c) if -1.0 <= c <= 1.0 else float("nan")
+        af = r.free_contact_angle
         rows.append({"axial_offset": r.axial_offset, "contact_direction": r.contact_direction, "n_balls": r.n_balls,
                      "hertz_constant": r.hertz_constant, "exponent": r.exponent,
                      "groove_center_distance": r.groove_center_distance, "pitch_radius": r.pitch_radius,
                      "radial_clearance": r.radial_clearance, "contact_angle_deg": r.contact_angle,
                      "free_contact_angle": af, "free_contact_angle_deg": math.degrees(af),
-                     "axial_preload": r.axial_preload})
+                     "axial_preload": r.axial_preload, "rest_deflection": r.rest_deflection,
+                     "rest_contact_angle_deg": math.degrees(r.rest_contact_angle)})
     out = {"name": bearing.name, "arrangement": bearing.arrangement, "rows": rows}
     if bearing.arrangement in ("DB", "DF", "DT"):
         r = bearing.rows[1]
@@ -518,6 +508,9 @@ def _bearing_text(rep: dict, bearing) -> str:
                   f"({r['free_contact_angle']:.6g} rad)"]
         if r["axial_preload"]:
             lines.append(f"    axial preload              d0 = {r['axial_preload']:.6g} mm")
+        if r["rest_deflection"] > 0:
+            lines.append(f"    preload ball deflection    delta0 = {r['rest_deflection']:.6g} mm at q = 0, "
+                         f"contact angle {r['rest_contact_angle_deg']:.6g} deg")
     if "load_centre_spread" in rep:
         lines.append(f"load-centre spread ({rep['arrangement']}): E = 2(e + c2 R tan a0) = "
                      f"{rep['load_centre_spread']:.6g} mm")

@@ -22,11 +22,9 @@ import os
 import numpy as np
 
 
-def _worker_block(bearing, given_load, line_length, inputs, solver, n_rows):
+def _worker_block(compute_block, bearing, given_load, line_length, inputs, solver, n_rows):
     """Runs on a worker: one block with one numba thread; returns the result arrays."""
     import numba
-
-    from .loadmap import compute_block
 
     numba.set_num_threads(1)
     n = inputs.shape[0]
@@ -43,8 +41,9 @@ def _worker_threads(client) -> int:
     return max(1, sum(w.get("nthreads", 1) for w in info.get("workers", {}).values()))
 
 
-def run_blocks(client, cfg, pending, given_load, solver, writer, interrupt, max_in_flight=None) -> dict:
-    """Compute ``pending`` blocks on the cluster and hand each result to ``writer``.
+def run_blocks(client, cfg, pending, given_load, solver, writer, interrupt, compute_block,
+               max_in_flight=None) -> dict:
+    """Compute ``pending`` blocks on the cluster with ``compute_block`` and hand each result to ``writer``.
 
     Returns provenance attributes (engine, workers, scheduler).
     """
@@ -63,7 +62,7 @@ def run_blocks(client, cfg, pending, given_load, solver, writer, interrupt, max_
         if block is None:
             return None
         inputs = cfg.cases.inputs(block.start, block.stop)
-        future = client.submit(_worker_block, bearing, given_load, cfg.cases.line_length, inputs, solver,
+        future = client.submit(_worker_block, compute_block, bearing, given_load, cfg.cases.line_length, inputs, solver,
                                cfg.bearing.n_rows, pure=False, key=f"fastbearing-block-{block.index}-{os.getpid()}")
         futures[future] = block
         return future

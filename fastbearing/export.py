@@ -11,6 +11,7 @@ import csv
 import json
 import os
 import warnings
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -20,6 +21,87 @@ UNITS = "N/mm among x, y, z; N*mm/rad among tx, ty; N/rad between translations a
 FORMATS = ("csv", "json", "npz", "dmig", "ross")
 #: Nastran component numbers of the DOF order above (1-3 translations, 4-5 rotations).
 NASTRAN_COMPONENTS = (1, 2, 3, 4, 5)
+
+
+@dataclass(frozen=True)
+class Source:
+    """Kb read from a solve/shaft JSON or a finished map or table: ``K`` (5, 5) or (N, 5, 5), each case's
+    ``status`` name, and ``extra`` fields (q, f of a solve) to carry into JSON exports."""
+
+    K: np.ndarray
+    status: list[str]
+    extra: dict
+
+    @property
+    def unconverged(self) -> list[int]:
+        """Indices of cases whose solve did not converge (status not converged/unloaded/direct)."""
+        return [i for i, s in enumerate(self.status) if not _usable(s)]
+
+
+def _usable(status: str) -> bool:
+    return status.split("+")[0] in ("converged", "unloaded", "direct")
+
+
+def read_source(path, case: int | None = None) -> Source:
+    """Kb from ``fastbearing solve --json`` / ``shaft --json`` output (.json) or a finished .h5 file.
+
+    ``case`` picks one case (flat index) of a .h5 map or table; it is refused for a .json source,
+    which holds one matrix. An unfinished file (a ``.part``, however named) is refused.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise ValueError(f"file not found: {path}" if not path.exists() else f"{path} is not a file")
+    suffix = path.suffix.lower()
+    if suffix == ".json":
+        if case is not None:
+            raise ValueError("--case picks a case of a .h5 map or table; a .json source holds one matrix")
+        try:
+            body = json.loads(path.read_text())
+        except (ValueError, UnicodeDecodeError):
+            raise ValueError(f"{path} is not JSON from `fastbearing solve --json` or `shaft --json`") from None
+        if not isinstance(body, dict) or not ({"K", "K_system"} & set(body)):
+            raise ValueError(f"{path} has no K or K_system: use the output of `solve --json` or `shaft --json`")
+        key = "K" if "K" in body else "K_system"
+        K = _matrix_field(body[key], f"{path.name}: {key}")
+        status = body.get("status", "converged")
+        status = status if isinstance(status, str) else "unknown"
+        return Source(K, [status], {k: body[k] for k in ("q", "f", "status") if k in body})
+    if suffix not in (".h5", ".hdf5"):
+        raise ValueError(f"SOURCE must be a .json or .h5 file, got {path.name!r}")
+    import h5py
+
+    try:
+        with h5py.File(path, "r") as fh:
+            if int(fh.attrs.get("fastbearing_complete", 0)) != 1:
+                raise ValueError(f"{path} is not a finished fastbearing file (an interrupted run's .part?); "
+                                 "finish it with --resume first")
+            node = fh.get("K")
+            if not isinstance(node, h5py.Dataset) or node.shape[-2:] != (5, 5) or node.dtype.kind != "f":
+                raise ValueError(f"{path} is not a fastbearing map or table (no 5 x 5 variable K)")
+            n = int(np.prod(node.shape[:-2]))
+            codes = fh["status"][()].reshape(-1) if "status" in fh else np.zeros(n, np.int8)
+            if case is not None:
+                if not 0 <= case < n:
+                    raise ValueError(f"--case must be in [0, {n - 1}] (the flat case index), got {case}")
+                K = node[np.unravel_index(case, node.shape[:-2])]
+                codes = codes[case:case + 1]
+            else:
+                K = node[()].reshape(-1, 5, 5)
+    except OSError:
+        raise ValueError(f"{path} is not a readable HDF5 file") from None
+    from . import status as st
+
+    return Source(np.asarray(K, dtype=float), [st.describe(int(c)) for c in codes], {})
+
+
+def _matrix_field(value, name: str) -> np.ndarray:
+    try:
+        K = np.array(value, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a 5 x 5 matrix of numbers") from None
+    if K.shape[-2:] != (5, 5) or K.ndim not in (2, 3):
+        raise ValueError(f"{name} must be a 5 x 5 matrix of numbers, got shape {K.shape}")
+    return K
 
 
 def _check_output(path: Path, overwrite: bool) -> None:
@@ -160,6 +242,8 @@ def ross_arguments(K, node: int = 0) -> dict:
     Ks = _as_matrices(K)
     if Ks.shape[0] != 1:
         raise ValueError("ROSS export takes one 5x5 matrix; pick a case of the map")
+    if isinstance(node, bool) or not isinstance(node, (int, np.integer)) or node < 0:
+        raise ValueError(f"node must be a shaft node number >= 0, got {node!r}")
     k = Ks[0] * 1e3  # N/mm -> N/m
     dropped = np.abs(Ks[0][:3, 3:]).max(initial=0.0) > 0 or np.abs(Ks[0][3:, 3:]).max(initial=0.0) > 0
     if dropped:

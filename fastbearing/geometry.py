@@ -50,7 +50,7 @@ from dataclasses import dataclass, fields, replace
 import numpy as np
 
 from . import validate
-from .bearing import PRELOAD_DEFLECTION_LIMIT, Bearing, _check_finite
+from .bearing import PRELOAD_DEFLECTION_LIMIT, Bearing, _check_finite, free_contact_angle
 
 ELLIPTICITY_METHODS = ("exact", "hamrock-brewe")
 
@@ -419,10 +419,10 @@ class Geometry:
         """a_f in rad: the contact angle once pure axial load takes up the clearance.
 
         cos(a_f) = cos(a0) - Pd/(2 A0); for a deep-groove bearing (a0 = 0)
-        cos(a_f) = 1 - Pd/(2 A0). Equals a0 when Pd = 0.
+        cos(a_f) = 1 - Pd/(2 A0). Equals a0 when Pd <= 0.
         """
-        return math.acos(math.cos(math.radians(self.contact_angle))
-                         - self.diametral_clearance / (2.0 * self.groove_center_distance))
+        return free_contact_angle(self.groove_center_distance, math.radians(self.contact_angle),
+                                  self.radial_clearance)
 
     @property
     def reduced_modulus(self) -> float:

@@ -131,32 +131,41 @@ class CaseSet:
 
 
 def read_case_file(path: Path, where: str) -> np.ndarray:
-    """N x 5 cases from .npy, .csv (comma separated, optional header line) or .h5 (dataset ``cases``)."""
+    """N x 5 cases from .npy, .csv (comma separated, optional header line) or .h5 (dataset ``cases``).
+
+    Plain real numbers only: a structured, complex, text or boolean table is refused, as is anything
+    not finite. ValueError names the field and the file.
+    """
     if not path.exists():
         raise ValueError(f"{where}: case file not found: {path}")
+    if not path.is_file():
+        raise ValueError(f"{where}: {path} is not a file")
     suffix = path.suffix.lower()
+    if suffix not in (".npy", ".csv", ".h5", ".hdf5"):
+        raise ValueError(f"{where}: case file must be .npy, .csv or .h5, got {path.name!r}")
     try:
         if suffix == ".npy":
             table = np.load(path, allow_pickle=False)
         elif suffix == ".csv":
-            with path.open() as fh:
-                first = fh.readline()
-            skip = 0 if _is_numeric_row(first) else 1
-            table = np.loadtxt(path, delimiter=",", skiprows=skip, ndmin=2)
-        elif suffix in (".h5", ".hdf5"):
+            table = _read_csv_cases(path, where)
+        else:
             import h5py
 
             with h5py.File(path, "r") as fh:
-                if "cases" not in fh:
+                node = fh.get("cases")
+                if not isinstance(node, h5py.Dataset):
                     raise ValueError(f"{where}: {path} has no dataset 'cases' (N x 5)")
-                table = fh["cases"][...]
-        else:
-            raise ValueError(f"{where}: case file must be .npy, .csv or .h5, got {path.name!r}")
-    except (OSError, ValueError) as err:
+                table = node[()]
+    except ValueError as err:
         if str(err).startswith(where):
             raise
         raise ValueError(f"{where}: cannot read {path}: {err}") from None
-    table = np.asarray(table, dtype=np.float64)
+    except (OSError, UnicodeDecodeError) as err:
+        raise ValueError(f"{where}: cannot read {path}: {err}") from None
+    table = np.asarray(table)
+    if table.dtype.kind not in "iuf":
+        raise ValueError(f"{where}: {path} must hold real numbers, got {table.dtype} values")
+    table = table.astype(np.float64)
     if table.ndim != 2 or table.shape[1] != 5 or table.shape[0] < 1:
         raise ValueError(f"{where}: {path} must hold an N x 5 table with N >= 1, got shape {table.shape}")
     bad = ~np.isfinite(table)
@@ -164,6 +173,24 @@ def read_case_file(path: Path, where: str) -> np.ndarray:
         i, j = np.argwhere(bad)[0]
         raise ValueError(f"{where}: {path} case {i} column {j} is not finite ({table[i, j]!r})")
     return np.ascontiguousarray(table)
+
+
+def _read_csv_cases(path: Path, where: str) -> np.ndarray:
+    """Comma-separated numbers, one case per line, an optional header line first."""
+    lines = [line.strip() for line in path.read_text().splitlines()]
+    lines = [line for line in lines if line and not line.startswith("#")]
+    if lines and not _is_numeric_row(lines[0]):
+        lines = lines[1:]  # a header
+    rows = []
+    for k, line in enumerate(lines):
+        cells = line.split(",")
+        try:
+            rows.append([float(c) for c in cells])
+        except ValueError:
+            raise ValueError(f"{where}: {path} line {k + 1} is not comma-separated numbers: {line[:40]!r}") from None
+        if len(rows[-1]) != len(rows[0]):
+            raise ValueError(f"{where}: {path} line {k + 1} has {len(rows[-1])} numbers, the first has {len(rows[0])}")
+    return np.array(rows, dtype=np.float64).reshape(len(rows), -1)
 
 
 def _is_numeric_row(line: str) -> bool:

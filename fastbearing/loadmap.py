@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from . import status as st, storage
+from . import status as st, storage, validate
 from .api import check_threads, num_threads, solver_settings
 from .bearing import ROW, Bearing
 from .bearing_file import read_job_config
@@ -27,6 +27,8 @@ from .grid import AXES, LONG_NAMES, UNITS, Axis, CaseSet, parse_axis, plan_block
 from .sweep import map_sweep
 
 DEFAULT_CHUNK = 65536
+#: Largest block: one block's results are in memory at once (about 400 bytes a case).
+MAX_CHUNK = 4_000_000
 _LOADMAP_KEYS = {"given", "cases", "chunk", "compression", "method", "rtol", "max_iter"}
 
 
@@ -49,9 +51,7 @@ class LoadMapConfig:
 def read_config(config) -> LoadMapConfig:
     """Parse a load-map config from a TOML path or an already-parsed dict; ValueError names the field."""
     bearing, spec, text, source = read_job_config(config, "loadmap")
-    given = spec.get("given", "load")
-    if given not in AXES:
-        raise ValueError(f"loadmap.given must be 'load' or 'displacement', got {given!r}")
+    given = validate.choice(spec.get("given", "load"), "loadmap.given", tuple(AXES))
     names = AXES[given]
     other = AXES["displacement" if given == "load" else "load"]
     for key in spec:
@@ -59,15 +59,14 @@ def read_config(config) -> LoadMapConfig:
             raise ValueError(f"loadmap.{key} is not an axis for given = {given!r}; its axes are {list(names)}")
         if key not in names and key not in _LOADMAP_KEYS:
             raise ValueError(f"loadmap: unknown key {key!r}; allowed: {sorted(_LOADMAP_KEYS | set(names))}")
-    chunk = spec.get("chunk", DEFAULT_CHUNK)
-    if isinstance(chunk, bool) or not isinstance(chunk, int) or chunk < 1:
-        raise ValueError(f"loadmap.chunk must be an integer >= 1 (cases per block), got {chunk!r}")
-    compression = spec.get("compression", "none")
-    if compression not in storage.COMPRESSIONS:
-        raise ValueError(f"loadmap.compression must be one of {list(storage.COMPRESSIONS)}, got {compression!r}")
+    chunk = validate.integer(spec.get("chunk", DEFAULT_CHUNK), "loadmap.chunk", low=1, high=MAX_CHUNK)
+    compression = validate.choice(spec.get("compression", "none"), "loadmap.compression", storage.COMPRESSIONS)
     method = spec.get("method", "newton")
     rtol, max_iter = spec.get("rtol"), spec.get("max_iter")
-    solver_settings(bearing, method, rtol, max_iter)  # validates method, rtol, max_iter
+    try:
+        solver_settings(bearing, method, rtol, max_iter)  # validates method, rtol, max_iter
+    except validate.FieldError as err:
+        raise err.within("loadmap") from None
     digest = hashlib.sha256(text.encode())
     if "cases" in spec:
         axes_given = [k for k in spec if k in names]
@@ -265,7 +264,8 @@ def loadmap(config, output=None, *, threads=None, resume=False, overwrite=False,
                 from .distributed import run_blocks
 
                 writer = storage.BlockWriter(pf, [object() for _ in range(4)], on_written)
-                engine = run_blocks(client, cfg, pending, given_load, opts, writer, interrupt, max_in_flight)
+                engine = run_blocks(client, cfg, pending, given_load, opts, writer, interrupt, compute_block,
+                                    max_in_flight)
                 pf.fh.attrs.update(engine)
         if bar is not None:
             bar.close()

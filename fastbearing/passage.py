@@ -89,19 +89,10 @@ class PassageConfig:
         return np.arange(self.positions) * self.period / self.positions
 
 
-def _positive_key(spec: dict, key: str) -> float:
-    value = spec[key]
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or value <= 0:
-        raise ValueError(f"passage.{key} must be a finite number > 0, got {value!r}")
-    return float(value)
-
-
 def read_config(config) -> PassageConfig:
     """Parse a ``[bearing]`` + ``[passage]`` config from a TOML path or a dict; ValueError names the field."""
     bearing, spec, text, source = read_job_config(config, "passage")
-    given = spec.get("given", "displacement")
-    if given not in AXES:
-        raise ValueError(f"passage.given must be 'displacement' or 'load', got {given!r}")
+    given = validate.choice(spec.get("given", "displacement"), "passage.given", ("displacement", "load"))
     names = AXES[given]
     for key in spec:
         if key not in names and key not in _PASSAGE_KEYS:
@@ -111,7 +102,10 @@ def read_config(config) -> PassageConfig:
     harmonics = validate.integer(spec.get("harmonics", 8), "passage.harmonics", low=0, high=MAX_POSITIONS // 2)
     chunk = validate.integer(spec.get("chunk", 4096), "passage.chunk", low=1, high=10_000_000)
     method = spec.get("method", "newton")
-    solver_settings(bearing, method, spec.get("rtol"), spec.get("max_iter"))
+    try:
+        solver_settings(bearing, method, spec.get("rtol"), spec.get("max_iter"))
+    except validate.FieldError as err:
+        raise err.within("passage") from None
     axes_given = [k for k in spec if k in names]
     if "points" in spec:
         if axes_given:
@@ -136,14 +130,11 @@ def read_config(config) -> PassageConfig:
         if len(speed_keys) != 3:
             raise ValueError("passage: the time axis needs shaft_speed (rpm), ball_diameter and pitch_diameter "
                              f"(mm) together; got only {speed_keys}")
-        D, dm = _positive_key(spec, "ball_diameter"), _positive_key(spec, "pitch_diameter")
-        if D >= dm:
-            raise ValueError(f"passage.ball_diameter ({D} mm) must be smaller than pitch_diameter ({dm} mm)")
-        rotating = spec.get("rotating", "inner")
-        if rotating not in ("inner", "outer"):
-            raise ValueError(f"passage.rotating must be 'inner' or 'outer', got {rotating!r}")
-        speed = CageSpeed(_positive_key(spec, "shaft_speed"), D, dm, math.radians(bearing.rows[0].contact_angle),
-                          rotating)
+        D = validate.number(spec["ball_diameter"], "passage.ball_diameter", low=0, low_open=True, units="mm")
+        dm = validate.number(spec["pitch_diameter"], "passage.pitch_diameter", low=D, low_open=True, units="mm")
+        rotating = validate.choice(spec.get("rotating", "inner"), "passage.rotating", ("inner", "outer"))
+        rpm = validate.number(spec["shaft_speed"], "passage.shaft_speed", low=0, low_open=True, units="rpm")
+        speed = CageSpeed(rpm, D, dm, math.radians(bearing.rows[0].contact_angle), rotating)
     elif "rotating" in spec:
         raise ValueError("passage.rotating needs shaft_speed, ball_diameter and pitch_diameter")
     digest = hashlib.sha256(text.encode()).hexdigest()

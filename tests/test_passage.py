@@ -187,7 +187,7 @@ def test_time_axis_csv_and_cli(tmp_path):
     ('points = [[0.05, 0.0, 0.0, 0.0, "a"]]\n', r"passage.points\[0\]\[4\] must be a number, got 'a'"),
     ("points = [[0.05, 0, 0, 0, 0]]\nshaft_speed = 3000.0\n", "needs shaft_speed .* together"),
     ("points = [[0.05, 0, 0, 0, 0]]\nshaft_speed = 3000.0\nball_diameter = 80.0\npitch_diameter = 70.0\n",
-     "ball_diameter .* must be smaller than pitch_diameter"),
+     r"passage.pitch_diameter must be > 80 mm, got 70.0"),
     ("points = [[0.05, 0, 0, 0, 0]]\npositions = 1\n", r"passage.positions must be an integer in \[2, 100000\]"),
     ("points = [[0.05, 0, 0, 0, 0]]\npositions = 1000000000\n", r"passage.positions must be an integer in \[2, 100000\]"),
     ("points = [[0.05, 0, 0, 0, 0]]\nspeed = 1\n", "passage: unknown key 'speed'"),

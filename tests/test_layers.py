@@ -1,0 +1,74 @@
+"""The package's imports run one way: no module imports, directly or through others, one that imports it.
+
+Every ``from .x import`` / ``import fastbearing.x`` is counted, including the
+ones inside functions (a lazy import still ties the two modules together).
+"""
+
+import ast
+from pathlib import Path
+
+PACKAGE = Path(__file__).resolve().parents[1] / "fastbearing"
+
+
+def _module_name(path: Path) -> str:
+    rel = path.relative_to(PACKAGE).with_suffix("")
+    parts = [p for p in rel.parts if p != "__init__"]
+    return ".".join(parts) or "__init__"
+
+
+def import_graph() -> dict[str, set[str]]:
+    modules = {_module_name(p): p for p in PACKAGE.rglob("*.py")}
+    graph = {}
+    for name, path in modules.items():
+        package = name.rsplit(".", 1)[0] if path.name != "__init__.py" and "." in name else (
+            name if path.name == "__init__.py" else "")
+        targets = set()
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.ImportFrom) and node.level > 0:
+                base = package.split(".")[: len(package.split(".")) - (node.level - 1)] if package else []
+                base = ".".join(p for p in base if p and p != "__init__")
+                mod = ".".join(p for p in (base, node.module or "") if p)
+                candidates = [mod] if mod else []
+                candidates += [".".join(p for p in (mod, a.name) if p) for a in node.names]
+                targets |= {c for c in candidates if c in modules}
+            elif isinstance(node, ast.ImportFrom) and (node.module or "").startswith("fastbearing."):
+                mod = node.module[len("fastbearing."):]
+                targets |= {c for c in [mod] + [f"{mod}.{a.name}" for a in node.names] if c in modules}
+            elif isinstance(node, ast.Import):
+                targets |= {a.name[len("fastbearing."):] for a in node.names
+                            if a.name.startswith("fastbearing.") and a.name[len("fastbearing."):] in modules}
+        graph[name] = targets - {name, "__init__"}
+    return graph
+
+
+def find_cycle(graph):
+    state = {}
+    stack = []
+
+    def visit(node):
+        state[node] = "open"
+        stack.append(node)
+        for nxt in sorted(graph.get(node, ())):
+            if state.get(nxt) == "open":
+                return stack[stack.index(nxt):] + [nxt]
+            if nxt not in state:
+                cycle = visit(nxt)
+                if cycle:
+                    return cycle
+        stack.pop()
+        state[node] = "done"
+        return None
+
+    for node in sorted(graph):
+        if node not in state:
+            cycle = visit(node)
+            if cycle:
+                return cycle
+    return None
+
+
+def test_no_import_circles():
+    graph = import_graph()
+    assert "api" in graph and "bearing" in graph["api"]        # the parser sees the package's imports
+    cycle = find_cycle(graph)
+    assert cycle is None, " -> ".join(cycle)
