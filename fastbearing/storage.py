@@ -67,9 +67,9 @@ def result_variables(given: str, inner: tuple[str, ...] = ()) -> list[Variable]:
     from .api import DISPLACEMENT_UNITS, LOAD_UNITS
 
     V = _inner_variable(inner)
-    flag = {"flag_values": np.array([st.CONVERGED, st.UNLOADED, st.ITERATION_LIMIT, st.SINGULAR,
-                                     st.NONFINITE_INPUT, st.STALLED], np.int8),
-            "flag_meanings": "converged unloaded iteration_limit singular nonfinite_input stalled",
+    codes = sorted(st.NAMES)                     # every outcome, so the file's key never lags the solver
+    flag = {"flag_values": np.array(codes, np.int8),
+            "flag_meanings": " ".join(st.NAMES[c] for c in codes),
             "comment": f"low 4 bits: outcome; +{st.CONTACT_REVERSED}: warning contact_reversed (a loaded ball's "
                        "contact angle crossed zero against its row's contact direction)"}
     return [

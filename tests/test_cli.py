@@ -56,3 +56,39 @@ def test_bad_input_is_one_line_and_exit_2(args, words):
 def test_help_says_how_to_write_negative_values():
     p = run("solve", "--help")
     assert p.returncode == 0 and "--load=-1000" in p.stdout and "N*mm" in p.stdout
+
+
+# -- issue 12: every argument is checked before any file is created ---------------------------
+SMALL_MAP = '[bearing]\npreset = "gunduz2013"\n\n[loadmap]\nFx = { start = 100.0, stop = 1000.0, num = 3 }\nFz = 500.0\n'
+
+
+@pytest.mark.parametrize("extra, words", [
+    (["-o", "no/such/dir/out.h5"], "output folder"),
+    (["--threads", "0"], "threads"),
+])
+def test_refused_loadmap_leaves_no_file(tmp_path, extra, words):
+    (tmp_path / "map.toml").write_text(SMALL_MAP)
+    before = set(tmp_path.rglob("*"))
+    args = ["loadmap", str(tmp_path / "map.toml")]
+    if "-o" not in extra:
+        args += ["-o", str(tmp_path / "out.h5")]
+    p = subprocess.run([*CLI, *args, *[e if not e.startswith("no/") else str(tmp_path / e) for e in extra]],
+                       capture_output=True, text=True, timeout=120, cwd=tmp_path)
+    assert p.returncode == 2, p.stderr
+    assert words in p.stderr and "Traceback" not in p.stderr
+    assert len(p.stderr.strip().splitlines()) == 1
+    assert set(tmp_path.rglob("*")) == before          # no .h5, no .h5.part, no folder
+
+
+def test_absurd_grid_is_refused_with_what_it_would_need(tmp_path):
+    body = SMALL_MAP.replace("num = 3", "num = 1000000000000")
+    (tmp_path / "map.toml").write_text(body)
+    p = run("loadmap", str(tmp_path / "map.toml"), "-o", str(tmp_path / "out.h5"))
+    assert p.returncode == 2 and "Traceback" not in p.stderr
+    assert "loadmap.Fx.num must be an integer in [1, 1e+07]" in p.stderr
+    big = SMALL_MAP.replace("Fz = 500.0", "Fz = { start = 0.0, stop = 1.0, num = 100000 }\n"
+                                          "My = { start = 0.0, stop = 1.0, num = 100000 }")
+    (tmp_path / "map.toml").write_text(big)
+    p = run("loadmap", str(tmp_path / "map.toml"), "-o", str(tmp_path / "out.h5"))
+    assert p.returncode == 2 and "Traceback" not in p.stderr and "cases" in p.stderr
+    assert not list(tmp_path.glob("out.h5*"))

@@ -186,6 +186,10 @@ def test_xarray_layout_units_and_provenance(small_map):
                 "created"):
         assert key in ds.attrs
     assert json.loads(ds.attrs["status_counts"]) == {"converged": 210}
+    # the status key names every outcome the solver can return (CF flag_values / flag_meanings)
+    from fastbearing import status as st
+    meanings = ds["status"].attrs["flag_meanings"].split()
+    assert dict(zip(ds["status"].attrs["flag_values"].tolist(), meanings)) == st.NAMES
 
 
 @pytest.mark.parametrize("compression", ["lzf", "gzip"])
