@@ -2,8 +2,10 @@
 
 numba invalidates a cached function only when its own file changes, not when
 a kernel it calls (in another file) does. Before any kernel is imported we
-hash the package's sources and drop the cached machine code if the hash
-differs from the one it was built from.
+hash the package's kernel sources and drop the cached machine code if the
+hash differs from the one it was built from, in every folder where numba
+may keep this package's cache: ``__pycache__`` beside the sources, the
+user-wide fallback when that is read-only, or ``NUMBA_CACHE_DIR`` when set.
 """
 
 import hashlib
@@ -12,7 +14,7 @@ from pathlib import Path
 _PACKAGE = Path(__file__).parent
 #: Modules holding @njit code (and the constants it compiles in).
 KERNEL_MODULES = ("config.py", "status.py", "kernel.py", "linalg.py", "solver.py", "sweep.py")
-_STAMP = _PACKAGE / "__pycache__" / "fastbearing-numba-cache.stamp"
+_STAMP_NAME = "fastbearing-numba-cache.stamp"
 
 
 def source_hash() -> str:
@@ -23,17 +25,38 @@ def source_hash() -> str:
     return h.hexdigest()
 
 
+def cache_folder() -> Path:
+    """Where numba keeps the cache of this package's kernels: numba's own choice (the first of its
+    locators that applies, as numba itself picks), or the in-tree ``__pycache__`` if numba cannot say."""
+    try:
+        from numba.core import caching
+
+        def probe():
+            pass
+
+        for locator in caching.CacheImpl._locator_classes:
+            found = locator.from_function(probe, str(_PACKAGE / "kernel.py"))
+            if found is not None:
+                return Path(found.get_cache_path())
+    except Exception:  # a numba without these internals: the default location
+        pass
+    return _PACKAGE / "__pycache__"
+
+
 def ensure_fresh() -> None:
     """Delete stale numba cache files (.nbi/.nbc) when the sources changed."""
-    try:
-        digest = source_hash()
-        if _STAMP.exists() and _STAMP.read_text() == digest:
-            return
-        for pattern in ("*.nbi", "*.nbc"):
-            for stale in (_PACKAGE / "__pycache__").glob(pattern):
-                stale.unlink(missing_ok=True)
-        _STAMP.parent.mkdir(exist_ok=True)
-        _STAMP.write_text(digest)
-    except OSError:
-        # read-only install: numba falls back to its own cache location rules
-        pass
+    digest = source_hash()
+    for folder in (cache_folder(),):
+        stamp = folder / _STAMP_NAME
+        try:
+            if stamp.exists() and stamp.read_text() == digest:
+                continue
+            if folder.is_dir():
+                for module in KERNEL_MODULES:
+                    for stale in folder.glob(f"{Path(module).stem}.*.nb[ic]"):
+                        stale.unlink(missing_ok=True)
+            folder.mkdir(parents=True, exist_ok=True)
+            stamp.write_text(digest)
+        except OSError:
+            # read-only location: numba does not write there either
+            pass

@@ -15,15 +15,12 @@ import numpy as np
 
 from . import config, status as st, validate
 from .bearing import Bearing
+from .dofs import DISPLACEMENT_NAMES, DISPLACEMENT_UNITS, LOAD_NAMES, LOAD_UNITS  # noqa: F401 (public names)
 from .kernel import ball_loop
 from .solver import BROYDEN, NEWTON, WORK_ROWS, SolverSettings, solve_case
 from .sweep import solve_sweep, stiffness_sweep
 
 METHODS = {"newton": NEWTON, "broyden": BROYDEN}
-LOAD_NAMES = ("Fx", "Fy", "Fz", "Mx", "My")
-DISPLACEMENT_NAMES = ("dx", "dy", "dz", "bx", "by")
-LOAD_UNITS = ("N", "N", "N", "N*mm", "N*mm")
-DISPLACEMENT_UNITS = ("mm", "mm", "mm", "rad", "rad")
 
 
 @dataclass(frozen=True)
@@ -257,7 +254,7 @@ class SolveManyResult:
 
     @property
     def converged(self) -> np.ndarray:
-        return np.isin(self.status & st.OUTCOME_MASK, (st.CONVERGED, st.UNLOADED))
+        return st.converged_mask(self.status)
 
 
 def solve_many(bearing: Bearing, f, q0=None, method: str = "newton", rtol=None, max_iter=None,

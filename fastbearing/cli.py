@@ -12,7 +12,8 @@ import sys
 
 import numpy as np
 
-from .api import DISPLACEMENT_NAMES, LOAD_NAMES, solve, stiffness
+from .api import solve, stiffness
+from .dofs import DISPLACEMENT_NAMES, LOAD_NAMES
 from .bearing import preset_names
 from .bearing_file import load_bearing, preset_bearing
 from .contacts import ball_contacts
@@ -105,27 +106,16 @@ def build_parser() -> argparse.ArgumentParser:
                            "xarray opens (engine h5netcdf). Units: N, mm, rad; moments N*mm. An interrupted run "
                            "(Ctrl-C, kill) keeps its finished blocks in OUT.h5.part: continue with --resume."))
     m.add_argument("config", metavar="CONFIG.toml", help="config with [bearing] and [loadmap] tables")
-    m.add_argument("-o", "--output", metavar="OUT.h5", help="output file (default: CONFIG with suffix .h5)")
-    m.add_argument("--threads", type=int, metavar="N",
-                   help="worker threads (default: NUMBA_NUM_THREADS, all cores); results do not depend on it")
-    m.add_argument("--resume", action="store_true", help="continue an interrupted run of the same config")
-    m.add_argument("--overwrite", action="store_true", help="replace an existing output or unfinished run")
-    m.add_argument("--no-progress", action="store_true", help="no progress bar even on a terminal")
-    m.add_argument("--dask", metavar="SPEC", help="run the blocks on Dask: local:N (a LocalCluster of N "
-                   "single-threaded worker processes) or tcp://HOST:PORT (a running scheduler); the output is "
-                   "identical to a local run (needs pip install 'fastbearing[dask]')")
-    m.add_argument("--in-flight", type=int, metavar="N", help="with --dask: blocks out on the cluster at once "
-                   "(default 2 per worker thread)")
+    _add_job_arguments(m)
     p = sub.add_parser("passage", help="ball-passage (time-varying) stiffness tables, to HDF5 (and CSV)",
                        description=(
                            "Rotate the ball set through one ball-pass period and tabulate Kb (and q) at every "
                            "cage position for each operating point of the [passage] table of CONFIG.toml, with the "
                            "mean, min, max, peak-to-peak variation (%% of mean) and Fourier harmonics of every "
-                           "entry. Units: N, mm, rad; time s; frequency Hz."))
+                           "entry. Units: N, mm, rad; time s; frequency Hz. An interrupted run (Ctrl-C, kill) keeps "
+                           "its finished blocks in OUT.h5.part: continue with --resume."))
     p.add_argument("config", metavar="CONFIG.toml", help="config with [bearing] and [passage] tables")
-    p.add_argument("-o", "--output", metavar="OUT.h5", help="output file (default: CONFIG with suffix .h5)")
-    p.add_argument("--threads", type=int, metavar="N", help="worker threads (default: NUMBA_NUM_THREADS)")
-    p.add_argument("--overwrite", action="store_true", help="replace existing output files")
+    _add_job_arguments(p)
     p.add_argument("--csv", action="store_true", help="also write OUT_point0000.csv ... (one per operating "
                    "point: cage angle in rad, time in s if a speed is given, the 15 independent Kb entries)")
     _add_plot_parsers(sub)
@@ -166,6 +156,51 @@ def build_parser() -> argparse.ArgumentParser:
     ex.add_argument("--node", type=int, default=0, metavar="N", help="ROSS: shaft node of the bearing")
     ex.add_argument("--overwrite", action="store_true", help="replace an existing output file")
     return parser
+
+
+def _add_job_arguments(parser) -> None:
+    """The options every HDF5 job (loadmap, passage) shares: output, threads, resume, Dask."""
+    parser.add_argument("-o", "--output", metavar="OUT.h5",
+                        help="output file (default: CONFIG's name with suffix .h5, in the current folder)")
+    parser.add_argument("--threads", type=int, metavar="N",
+                        help="worker threads (default: NUMBA_NUM_THREADS, all cores); results do not depend on it")
+    parser.add_argument("--resume", action="store_true", help="continue an interrupted run of the same config")
+    parser.add_argument("--overwrite", action="store_true", help="replace existing output or an unfinished run")
+    parser.add_argument("--no-progress", action="store_true", help="no progress bar even on a terminal")
+    parser.add_argument("--dask", metavar="SPEC", help="run the blocks on Dask: local:N (a LocalCluster of N "
+                        "single-threaded worker processes) or tcp://HOST:PORT (a running scheduler); the output is "
+                        "identical to a local run (needs pip install 'fastbearing[dask]')")
+    parser.add_argument("--in-flight", type=int, metavar="N", help="with --dask: blocks out on the cluster at once "
+                        "(default 2 per worker thread)")
+
+
+def _run_job(run, args, **extra) -> int:
+    """Run a job function (loadmap, passage) with the shared options; Ctrl-C is exit 130."""
+    from .api import check_threads
+    from .jobs import check_in_flight
+
+    check_threads(args.threads)
+    check_in_flight(args.in_flight, "--in-flight")
+    client = cluster = None
+    if args.dask:
+        if args.threads is not None:
+            raise ValueError("--threads is for local runs; with --dask each worker task uses one thread")
+        from .distributed import client_for
+
+        client, cluster = client_for(args.dask)
+    elif args.in_flight is not None:
+        raise ValueError("--in-flight goes with --dask")
+    try:
+        run(args.config, args.output, threads=args.threads, resume=args.resume, overwrite=args.overwrite,
+            progress=False if args.no_progress else None, client=client, max_in_flight=args.in_flight, **extra)
+    except KeyboardInterrupt:
+        return 130
+    finally:
+        if client is not None:
+            client.close()
+        if cluster is not None:
+            cluster.close()
+    return 0
 
 
 def _size(text: str) -> tuple[int, int]:
@@ -307,13 +342,10 @@ def _paper(args) -> int:
 def _passage(args) -> int:
     from .passage import passage
 
-    passage(args.config, args.output, threads=args.threads, overwrite=args.overwrite, csv_files=args.csv)
-    return 0
+    return _run_job(passage, args, csv_files=args.csv)
 
 
 def _shaft(args) -> int:
-    import json as _json
-
     from .shaft import natural_frequencies, read_shaft, solve_shaft
 
     shaft = read_shaft(args.config)
@@ -407,26 +439,7 @@ def _export(args) -> int:
 def _loadmap(args) -> int:
     from .loadmap import loadmap
 
-    client = cluster = None
-    if args.dask:
-        if args.threads is not None:
-            raise ValueError("--threads is for local runs; with --dask each worker task uses one thread")
-        from .distributed import client_for
-
-        client, cluster = client_for(args.dask)
-    elif args.in_flight is not None:
-        raise ValueError("--in-flight goes with --dask")
-    try:
-        loadmap(args.config, args.output, threads=args.threads, resume=args.resume, overwrite=args.overwrite,
-                progress=False if args.no_progress else None, client=client, max_in_flight=args.in_flight)
-    except KeyboardInterrupt:
-        return 130
-    finally:
-        if client is not None:
-            client.close()
-        if cluster is not None:
-            cluster.close()
-    return 0
+    return _run_job(loadmap, args)
 
 
 def _bearing(args):

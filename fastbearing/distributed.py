@@ -1,16 +1,16 @@
-"""Load maps on a Dask cluster (dask.distributed): the same blocks, the same kernels, the same file.
+"""Jobs on a Dask cluster (dask.distributed): the same blocks, the same kernels, the same file.
 
 The client plans the blocks exactly as a local run does, sends each block's
 inputs to a worker, and writes the returned arrays into the same HDF5 layout
-through the same crash-safe writer. A worker runs
-:func:`fastbearing.loadmap.compute_block` on one numba thread, so cores are
-used by Dask worker threads and never oversubscribed (numba threads x Dask
-threads per worker = 1 x threads). A bounded number of blocks is in flight,
-so the client's memory stays bounded too. A killed worker's blocks are
-recomputed by the scheduler; results are identical because every block is
-computed independently of where it runs (on machines of the same CPU
-architecture; the kernel's vectorised sums may round differently on another
-SIMD width).
+through the same crash-safe writer (jobs.py). A worker runs the job's own
+compute function on one numba thread, so cores are used by Dask worker
+threads and never oversubscribed (numba threads x Dask threads per worker =
+1 x threads). A bounded number of blocks is in flight, so the client's
+memory stays bounded too. A killed worker's blocks are recomputed by the
+scheduler; results are identical because every block is computed
+independently of where it runs (on machines of the same CPU architecture;
+the kernel's vectorised sums may round differently on another SIMD width).
+Load maps and ball-passage tables both run here.
 
 Needs ``pip install 'fastbearing[dask]'``. Units: N, mm, rad.
 """
@@ -19,20 +19,16 @@ from __future__ import annotations
 
 import os
 
-import numpy as np
 
-
-def _worker_block(compute_block, bearing, given_load, line_length, inputs, solver, n_rows):
+def _worker_block(compute, variables, sizes, inputs):
     """Runs on a worker: one block with one numba thread; returns the result arrays."""
     import numba
 
+    from .storage import allocate
+
     numba.set_num_threads(1)
-    n = inputs.shape[0]
-    res = {"q": np.empty((n, 5)), "f": np.empty((n, 5)), "K": np.empty((n, 5, 5)), "status": np.empty(n, np.int8),
-           "iterations": np.empty(n, np.int32), "residual": np.empty(n), "max_ball_load": np.empty((n, n_rows)),
-           "loaded_balls": np.empty((n, n_rows), np.int16), "min_contact_angle": np.empty((n, n_rows)),
-           "max_contact_angle": np.empty((n, n_rows))}
-    compute_block(bearing, given_load, line_length, inputs, solver, res)
+    res = allocate(variables, sizes, inputs.shape[0])
+    compute(inputs, res)
     return res
 
 
@@ -41,19 +37,19 @@ def _worker_threads(client) -> int:
     return max(1, sum(w.get("nthreads", 1) for w in info.get("workers", {}).values()))
 
 
-def run_blocks(client, cfg, pending, given_load, solver, writer, interrupt, compute_block,
-               max_in_flight=None) -> dict:
-    """Compute ``pending`` blocks on the cluster with ``compute_block`` and hand each result to ``writer``.
+def run_blocks(client, job, pending, writer, interrupt, max_in_flight=None) -> dict:
+    """Compute the ``pending`` blocks of ``job`` on the cluster and hand each result to ``writer``.
 
-    Returns provenance attributes (engine, workers, scheduler).
+    ``max_in_flight`` (checked by the runner) bounds the blocks out at once;
+    default 2 per worker thread. Returns provenance attributes (engine,
+    workers, scheduler).
     """
     from distributed import as_completed
 
     threads = _worker_threads(client)
-    limit = max_in_flight or 2 * threads
-    if not isinstance(limit, int) or limit < 1:
-        raise ValueError(f"max_in_flight must be an integer >= 1, got {max_in_flight!r}")
-    bearing = client.scatter(cfg.bearing, broadcast=True)
+    limit = 2 * threads if max_in_flight is None else max_in_flight
+    compute = client.scatter(job.compute, broadcast=True)     # the bearing and settings travel once
+    variables = list(job.variables)
     queue = iter(pending)
     futures = {}
 
@@ -61,9 +57,9 @@ def run_blocks(client, cfg, pending, given_load, solver, writer, interrupt, comp
         block = next(queue, None)
         if block is None:
             return None
-        inputs = cfg.cases.inputs(block.start, block.stop)
-        future = client.submit(_worker_block, compute_block, bearing, given_load, cfg.cases.line_length, inputs, solver,
-                               cfg.bearing.n_rows, pure=False, key=f"fastbearing-block-{block.index}-{os.getpid()}")
+        inputs = job.cases.inputs(block.start, block.stop)
+        future = client.submit(_worker_block, compute, variables, job.sizes, inputs, pure=False,
+                               key=f"fastbearing-block-{block.index}-{os.getpid()}")
         futures[future] = block
         return future
 

@@ -9,14 +9,15 @@ from __future__ import annotations
 
 import csv
 import json
-import os
 import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-DOF = ("x", "y", "z", "tx", "ty")
+from .dofs import DOF_LABELS as DOF
+from .files import publish as _publish
+
 UNITS = "N/mm among x, y, z; N*mm/rad among tx, ty; N/rad between translations and tilts"
 FORMATS = ("csv", "json", "npz", "dmig", "ross")
 #: Nastran component numbers of the DOF order above (1-3 translations, 4-5 rotations).
@@ -107,17 +108,6 @@ def _matrix_field(value, name: str) -> np.ndarray:
 def _check_output(path: Path, overwrite: bool) -> None:
     if path.exists() and not overwrite:
         raise ValueError(f"{path} exists; pass --overwrite (overwrite=True) to replace it")
-
-
-def _publish(path: Path, write) -> Path:
-    """Run ``write(tmp)`` on a temporary name beside ``path``, then rename: never a half-written file."""
-    tmp = path.with_name(path.name + ".part")
-    try:
-        write(tmp)
-        os.replace(tmp, path)
-    finally:
-        tmp.unlink(missing_ok=True)
-    return path
 
 
 def _as_matrices(K) -> np.ndarray:

@@ -45,7 +45,7 @@ error grows with closer conformity (alpha_r = 50: k 3 %, Kn 3 %).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, fields, replace
+from dataclasses import dataclass, replace
 
 import numpy as np
 

@@ -16,21 +16,11 @@ from pathlib import Path
 import numpy as np
 
 from . import validate
-from .api import DISPLACEMENT_NAMES, DISPLACEMENT_UNITS, LOAD_NAMES, LOAD_UNITS
 
-AXES = {"load": LOAD_NAMES, "displacement": DISPLACEMENT_NAMES}
 #: Most values one axis may have, and most cases one map may have (about 3.5 TB of results): a bigger
 #: map is refused before anything is allocated; split it into several maps.
 MAX_AXIS_VALUES = 10_000_000
 MAX_CASES = 10_000_000_000
-UNITS = {"load": LOAD_UNITS, "displacement": DISPLACEMENT_UNITS}
-LONG_NAMES = {
-    "Fx": "radial force x on the inner ring", "Fy": "radial force y on the inner ring",
-    "Fz": "axial force on the inner ring", "Mx": "moment about x on the inner ring",
-    "My": "moment about y on the inner ring",
-    "dx": "inner-ring displacement x", "dy": "inner-ring displacement y", "dz": "inner-ring axial displacement",
-    "bx": "inner-ring tilt about x", "by": "inner-ring tilt about y",
-}
 
 
 @dataclass(frozen=True)

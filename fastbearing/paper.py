@@ -26,6 +26,7 @@ import numpy as np
 from . import plot
 from .api import SolveResult, solve, solve_many, stiffness, stiffness_many
 from .bearing import Bearing
+from .files import publish_text
 from .shaft import transfer
 
 CITATION = ("A. Gunduz, R. Singh, Stiffness matrix formulation for double row angular contact ball bearings: "
@@ -649,9 +650,7 @@ def paper(out, *, overwrite: bool = False) -> Path:
     claims["unique"], claims["converged_starts"] = unique_solution("DF", LOAD_TABLE3, starts=claims["starts"])
     text = report_text(tables, splits, claims, small_q_defect(), time.perf_counter() - started)
     report = out / REPORT
-    tmp = report.with_name(report.name + ".part")
-    tmp.write_text(text, encoding="utf-8")
-    tmp.replace(report)
+    publish_text(report, text)
     print(f"fastbearing: wrote {report} and {len(FIGURES)} figures in {time.perf_counter() - started:.1f} s",
           file=sys.stderr)
     return report

@@ -13,31 +13,26 @@ from __future__ import annotations
 
 import csv
 import hashlib
-import json
 import math
-import sys
-import time
 from dataclasses import dataclass
-from functools import reduce
+from functools import partial, reduce
 from pathlib import Path
 
 import numpy as np
 
-from . import storage, validate
-from .api import check_threads, num_threads, solver_settings
+from . import jobs, storage, validate
+from .api import solver_settings
 from .bearing import ROW, Bearing
 from .bearing_file import read_job_config
-from .grid import AXES, LONG_NAMES, UNITS, Axis, CaseSet, parse_axis, plan_blocks
+from .dofs import AXES, K_ENTRIES, K_UNITS, UNITS
+from .files import publish
+from .grid import Axis, CaseSet, parse_axis
 from .sweep import passage_sweep
 
 _PASSAGE_KEYS = {"given", "points", "positions", "harmonics", "shaft_speed", "ball_diameter", "pitch_diameter",
                  "rotating", "method", "rtol", "max_iter", "chunk"}
 #: Most cage positions per period (a sanity bound: 64 resolve the ball-pass harmonics well).
 MAX_POSITIONS = 100_000
-#: The 15 independent entries of Kb, as (row, column, CSV column name with units).
-K_ENTRIES = [(i, j, f"k{a}{b}_{u}") for i, a in enumerate(("x", "y", "z", "tx", "ty"))
-             for j, b in enumerate(("x", "y", "z", "tx", "ty")) if j >= i
-             for u in ["N/mm" if i < 3 and j < 3 else "N*mm/rad" if i >= 3 and j >= 3 else "N/rad"]]
 
 
 @dataclass(frozen=True)
@@ -171,149 +166,116 @@ def variation_summary(K: np.ndarray) -> dict[str, np.ndarray]:
 def _variables(cfg: PassageConfig) -> list[storage.Variable]:
     """Per point: the per-position results and the summaries over the period."""
     V = storage.Variable
-    K_units = "N/mm, N*mm/rad, N/rad"
     return storage.result_variables(cfg.cases.given, inner=("position",)) + [
-        V("K_mean", ("dof", "dof_col"), "f8", K_units, "mean of Kb over one period"),
-        V("K_min", ("dof", "dof_col"), "f8", K_units, "minimum of Kb over one period"),
-        V("K_max", ("dof", "dof_col"), "f8", K_units, "maximum of Kb over one period"),
+        V("K_mean", ("dof", "dof_col"), "f8", K_UNITS, "mean of Kb over one period"),
+        V("K_min", ("dof", "dof_col"), "f8", K_UNITS, "minimum of Kb over one period"),
+        V("K_max", ("dof", "dof_col"), "f8", K_UNITS, "maximum of Kb over one period"),
         V("K_variation", ("dof", "dof_col"), "f8", "%",
           "peak-to-peak variation of Kb over one period in % of |mean| (nan where the mean is ~0)"),
-        V("K_amplitude", ("harmonic", "dof", "dof_col"), "f8", K_units,
+        V("K_amplitude", ("harmonic", "dof", "dof_col"), "f8", K_UNITS,
           "Fourier amplitude A_h of Kb: K = sum_h A_h cos(h*2*pi*position/positions + phi_h)"),
         V("K_phase", ("harmonic", "dof", "dof_col"), "f8", "rad", "Fourier phase phi_h of Kb"),
     ]
 
 
-def _create(cfg: PassageConfig, part: Path, blocks) -> list[storage.Variable]:
-    import h5py
+def compute_block(tables: np.ndarray, exponents: np.ndarray, ball_row: np.ndarray, given_load: bool, settings,
+                  harmonics: int, inputs: np.ndarray, res: dict) -> None:
+    """Fill one block's results ``res``: every point of ``inputs`` at every cage position, then the
+    summaries over the period (mean, min, max, variation, Fourier). The work unit of a table, here or on Dask."""
+    passage_sweep(inputs, given_load, tables, exponents, res["q"], res["f"], res["K"], res["status"],
+                  res["iterations"], res["residual"], res["max_ball_load"], res["loaded_balls"],
+                  res["min_contact_angle"], res["max_contact_angle"], ball_row, settings)
+    for name, values in variation_summary(res["K"]).items():
+        res[name][...] = values
+    res["K_amplitude"][...], res["K_phase"][...] = fourier(res["K"], harmonics)
 
+
+def job(cfg: PassageConfig) -> jobs.Job:
+    """The ball-passage table as a job for the runner."""
     C = storage.Coordinate
-    cases = cfg.cases
-    aux = []
-    if cases.table is not None:
-        case_dims = [C("point", np.arange(cases.n_cases), "1", "operating point number")]
-        aux += [(C(n, cases.table[:, i], u, LONG_NAMES[n]), "point")
-                for i, (n, u) in enumerate(zip(AXES[cases.given], UNITS[cases.given]))]
-        scalars = []
-    else:
-        case_dims = [C(a.name, a.values, a.units, LONG_NAMES[a.name]) for a in cases.dims]
-        scalars = [C(a.name, a.values, a.units, LONG_NAMES[a.name], False) for a in cases.axes if not a.is_dim]
     H = min(cfg.harmonics, cfg.positions // 2)
-    labels = np.array(storage.DOF_LABELS, dtype=h5py.string_dtype())
-    extra = [C("position", np.arange(cfg.positions), "1", "cage position within one period"),
-             C("harmonic", np.arange(H + 1), "1", "harmonic order of the ball-pass frequency"),
-             C("dof", labels, "1", "degree of freedom: x, y, z translations; tx, ty tilts"),
-             C("dof_col", labels, "1", "degree of freedom (column of K)"),
-             C("row", np.arange(cfg.bearing.n_rows), "1", "bearing row (as in the bearing definition)")]
-    aux.append((C("cage_angle", cfg.cage_angles, "rad",
-                  "cage rotation from the bearing definition's first-ball azimuth"), "position"))
-    attrs = {"period_rad": cfg.period, "period_order": cfg.period_order}
+    own = (C("position", np.arange(cfg.positions), "1", "cage position within one period"),
+           C("harmonic", np.arange(H + 1), "1", "harmonic order of the ball-pass frequency"))
+    aux = [(C("cage_angle", cfg.cage_angles, "rad", "cage rotation from the bearing definition's first-ball azimuth"),
+            "position")]
+    attrs = {"period_rad": cfg.period, "period_order": cfg.period_order, "positions": cfg.positions,
+             "n_points": cfg.cases.n_cases}
     if cfg.speed is not None:
         fc = cfg.speed.cage_frequency
         aux.append((C("time", cfg.cage_angles / (2 * math.pi * fc), "s", "time from position 0"), "position"))
-        aux.append((C("frequency", np.arange(H + 1) * cfg.period_order * fc, "Hz",
-                      "frequency of each harmonic"), "harmonic"))
+        aux.append((C("frequency", np.arange(H + 1) * cfg.period_order * fc, "Hz", "frequency of each harmonic"),
+                    "harmonic"))
         attrs.update(shaft_speed_rpm=cfg.speed.shaft_speed, rotating_ring=cfg.speed.rotating,
                      ball_diameter_mm=cfg.speed.ball_diameter, pitch_diameter_mm=cfg.speed.pitch_diameter,
                      cage_frequency_hz=fc, ball_pass_frequency_hz=cfg.period_order * fc)
-    variables = _variables(cfg)
-    opts = solver_settings(cfg.bearing, cfg.method, cfg.rtol, cfg.max_iter)
-    attrs.update({
-        "title": "fastbearing ball-passage stiffness table", "Conventions": "CF-1.8", "given": cases.given,
-        "units_convention": "N, mm, rad; moments N*mm; stiffness N/mm, N*mm/rad, N/rad; time s",
-        "config": cfg.text, "config_source": str(cfg.source or ""), "config_fingerprint": cfg.fingerprint,
-        "bearing": cfg.bearing.describe(), "bearing_json": json.dumps(cfg.bearing.to_dict()),
-        "solver_method": cfg.method, "solver_rtol": opts.rtol, "solver_max_iter": opts.max_iter,
-        "positions": cfg.positions, "n_points": cases.n_cases, **storage.versions()})
-    storage.create(part, case_dims, extra, scalars, variables, attrs, len(blocks), aux)
-    return variables
+    tables = np.ascontiguousarray(np.stack([cfg.bearing.ball_table(a) for a in cfg.cage_angles]))
+    settings = solver_settings(cfg.bearing, cfg.method, cfg.rtol, cfg.max_iter)
+    compute = partial(compute_block, tables, cfg.bearing.ball_exponents, tables[0, ROW].astype(np.int64),
+                      cfg.cases.given == "load", settings, cfg.harmonics)
+    return jobs.Job(
+        kind="ball-passage table", bearing=cfg.bearing, cases=cfg.cases, variables=tuple(_variables(cfg)),
+        sizes={"dof": 5, "dof_col": 5, "row": cfg.bearing.n_rows, "position": cfg.positions, "harmonic": H + 1},
+        compute=compute, settings=settings, method=cfg.method, chunk=cfg.chunk, text=cfg.text, source=cfg.source,
+        fingerprint=cfg.fingerprint, own_dims=own, aux_coords=tuple(aux), attrs=attrs,
+        solves_per_case=cfg.positions, case_word="point")
 
 
-def passage(config, output=None, *, threads=None, overwrite=False, csv_files=False, as_dataset=False):
+def passage(config, output=None, *, threads=None, resume=False, overwrite=False, csv_files=False, progress=None,
+            as_dataset=False, client=None, max_in_flight=None):
     """Compute ball-passage stiffness tables and write them to HDF5 (and optionally CSV).
+
+    Runs through the same job runner as a load map: resumable, Ctrl-C safe,
+    with a progress bar and an optional Dask cluster.
 
     Parameters
     ----------
     config : str, Path or dict
         A TOML config with ``[bearing]`` and ``[passage]`` tables, or the same as a dict.
     output : str or Path, optional
-        Output file (default: the config's path with suffix .h5); never
-        replaced unless ``overwrite``.
+        Output file (default: the config's name with suffix .h5, in the
+        current folder); never replaced unless ``overwrite``.
     threads : int, optional
         Numba threads; results do not depend on it.
+    resume : bool
+        Continue an interrupted run from ``OUTPUT.part`` (same config only).
+    overwrite : bool
+        Replace existing output files or discard an unfinished run.
     csv_files : bool
         Also write ``OUTPUT_point0000.csv`` ...: one per operating point, with
         cage angle (rad), time (s, if a speed is given) and the 15
-        independent Kb entries.
+        independent Kb entries (N/mm, N*mm/rad, N/rad), from the finished file.
+    progress : bool, optional
+        Progress bar on stderr (default: only when stderr is a terminal).
     as_dataset : bool
         Return an ``xarray.Dataset`` instead of the path.
+    client : dask.distributed.Client, optional
+        Run the blocks on a Dask cluster; the output is identical to a local run.
+    max_in_flight : int, optional
+        With ``client``: blocks out on the cluster at once (default: 2 per worker thread).
     """
     cfg = config if isinstance(config, PassageConfig) else read_config(config)
-    check_threads(threads)
     if as_dataset:
-        from .loadmap import _require_xarray
-
-        _require_xarray()
-    if output is None:
-        if cfg.source is None:
-            raise ValueError("output is required when the config is not a file")
-        output = Path(cfg.source.name).with_suffix(".h5")  # in the current folder, like every other output
-    out = Path(output)
-    storage.check_output_path(out)
-    H = min(cfg.harmonics, cfg.positions // 2)
-    sizes = {"dof": 5, "dof_col": 5, "row": cfg.bearing.n_rows, "position": cfg.positions, "harmonic": H + 1}
-    storage.check_disk_space(out, cfg.cases.n_cases * storage.bytes_per_case(_variables(cfg), sizes),
-                             f"this table ({cfg.cases.n_cases} points x {cfg.positions} positions)")
+        jobs.require_xarray()
+    out = jobs.output_path(output, cfg.source)
     csv_paths = [out.with_name(f"{out.stem}_point{i:04d}.csv") for i in range(cfg.cases.n_cases)] if csv_files else []
     existing = [p for p in csv_paths if p.exists()]
     if existing and not overwrite:
         raise ValueError(f"{existing[0]} exists; pass --overwrite to replace it")
-    out, part, _ = storage.prepare_output(out, cfg.fingerprint, False, overwrite)
-    cases = cfg.cases
-    blocks = plan_blocks(cases.shape, 1, cfg.chunk)
-    variables = _create(cfg, part, blocks)
-    tables = np.ascontiguousarray(np.stack([cfg.bearing.ball_table(a) for a in cfg.cage_angles]))
-    ball_row = tables[0, ROW].astype(np.int64)
-    opts = solver_settings(cfg.bearing, cfg.method, cfg.rtol, cfg.max_iter)
-    started = time.perf_counter()
-    pf = storage.PartFile(part)
-    n_rows, P = cfg.bearing.n_rows, cfg.positions
-    counts: dict[int, int] = {}
-    with num_threads(threads):
-        for block in blocks:
-            n = block.size
-            res = {"q": np.empty((n, P, 5)), "f": np.empty((n, P, 5)), "K": np.empty((n, P, 5, 5)),
-                   "status": np.empty((n, P), np.int8), "iterations": np.empty((n, P), np.int32),
-                   "residual": np.empty((n, P)), "max_ball_load": np.empty((n, P, n_rows)),
-                   "loaded_balls": np.empty((n, P, n_rows), np.int16), "min_contact_angle": np.empty((n, P, n_rows)),
-                   "max_contact_angle": np.empty((n, P, n_rows))}
-            passage_sweep(cases.inputs(block.start, block.stop), cases.given == "load", tables,
-                          cfg.bearing.ball_exponents, res["q"], res["f"],
-                          res["K"], res["status"], res["iterations"], res["residual"], res["max_ball_load"],
-                          res["loaded_balls"], res["min_contact_angle"], res["max_contact_angle"], ball_row, opts)
-            res.update(variation_summary(res["K"]))
-            res["K_amplitude"], res["K_phase"] = fourier(res["K"], cfg.harmonics)
-            pf.write(block.slab, res)
-            pf.mark_done(block.index)
-            for code, k in zip(*np.unique(res["status"], return_counts=True)):
-                counts[int(code)] = counts.get(int(code), 0) + int(k)
-            for i, path in enumerate(csv_paths[block.start:block.stop]):
-                _write_csv(path, cfg, res["K"][i])
-    pf.close()
-    wall = time.perf_counter() - started
-    from . import status as st
+    out = jobs.run(job(cfg), out, threads=threads, resume=resume, overwrite=overwrite, progress=progress,
+                   client=client, max_in_flight=max_in_flight)
+    if csv_paths:
+        _write_csv_files(out, cfg, csv_paths)
+    return jobs.open_dataset(out) if as_dataset else out
 
-    storage.finish(part, out, "none", blocks, {"wall_time_s": wall, "status_counts": json.dumps(
-        {st.describe(c): k for c, k in counts.items()})}, [v.name for v in variables])
-    total = cases.n_cases * P
-    ok = sum(k for c, k in counts.items() if st.is_converged(c))
-    print(f"fastbearing: {cases.n_cases} points x {P} positions, {100.0 * ok / total:.2f} % converged; "
-          f"{wall:.2f} s wall", file=sys.stderr)
-    if as_dataset:
-        from .loadmap import open_dataset
 
-        return open_dataset(out)
-    return out.absolute()
+def _write_csv_files(h5: Path, cfg: PassageConfig, paths: list[Path]) -> None:
+    """One CSV per operating point, read point by point from the finished file (memory: one point)."""
+    import h5py
+
+    with h5py.File(h5, "r") as fh:
+        K = fh["K"]
+        for i, path in enumerate(paths):
+            _write_csv(path, cfg, K[np.unravel_index(i, cfg.cases.shape)])
 
 
 def _write_csv(path: Path, cfg: PassageConfig, K: np.ndarray) -> None:
@@ -321,11 +283,13 @@ def _write_csv(path: Path, cfg: PassageConfig, K: np.ndarray) -> None:
     header = ["position", "cage_angle_rad"] + (["time_s"] if cfg.speed else []) + [e[2] for e in K_ENTRIES]
     angles = cfg.cage_angles
     times = angles / (2 * math.pi * cfg.speed.cage_frequency) if cfg.speed else None
-    tmp = path.with_name(path.name + ".part")
-    with tmp.open("w", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow(header)
-        for p in range(K.shape[0]):
-            row = [p, repr(float(angles[p]))] + ([repr(float(times[p]))] if times is not None else [])
-            w.writerow(row + [repr(float(K[p, i, j])) for i, j, _ in K_ENTRIES])
-    tmp.replace(path)
+
+    def write(tmp):
+        with open(tmp, "w", newline="") as fh:
+            w = csv.writer(fh)
+            w.writerow(header)
+            for p in range(K.shape[0]):
+                row = [p, repr(float(angles[p]))] + ([repr(float(times[p]))] if times is not None else [])
+                w.writerow(row + [repr(float(K[p, i, j])) for i, j, _ in K_ENTRIES])
+
+    publish(path, write)

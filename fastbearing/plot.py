@@ -27,13 +27,13 @@ from pathlib import Path
 import numpy as np
 
 from . import status as st
-from .api import DISPLACEMENT_NAMES, DISPLACEMENT_UNITS, LOAD_NAMES, LOAD_UNITS
+from .dofs import DISPLACEMENT_NAMES, DISPLACEMENT_UNITS, DOF_LABELS as DOF, LOAD_NAMES, LOAD_UNITS, k_entry_units
+from .files import publish
 
 FORMATS = (".png", ".svg", ".pdf")
 #: Default picture size in pixels (width, height) and resolution.
 DEFAULT_SIZE = (800, 560)
 DEFAULT_DPI = 100
-DOF = ("x", "y", "z", "tx", "ty")
 ROW_VARIABLES = {"max_ball_load": ("N", "largest ball load"), "loaded_balls": ("1", "loaded balls"),
                  "min_contact_angle": ("rad", "smallest loaded contact angle"),
                  "max_contact_angle": ("rad", "largest loaded contact angle")}
@@ -96,13 +96,7 @@ def check_output(out, overwrite: bool = False) -> Path:
 def save(fig, out, overwrite: bool = False) -> Path:
     """Write ``fig`` to ``out`` (format from the extension), via a temporary name: never half-written."""
     out = check_output(out, overwrite)
-    tmp = out.with_name(out.name + ".part")
-    try:
-        fig.savefig(tmp, format=out.suffix[1:].lower(), dpi=fig.dpi)
-        os.replace(tmp, out)
-    finally:
-        tmp.unlink(missing_ok=True)
-    return out
+    return publish(out, lambda tmp: fig.savefig(tmp, format=out.suffix[1:].lower(), dpi=fig.dpi))
 
 
 def _finish(fig, out, overwrite):
@@ -123,12 +117,6 @@ def k_entry(name: str) -> tuple[int, int]:
         index.append(DOF.index(label))
         rest = rest[len(label):]
     return tuple(index) if len(index) == 2 else None
-
-
-def k_units(i: int, j: int) -> str:
-    """Units of Kb[i, j]: N/mm among translations, N*mm/rad among tilts, N/rad between."""
-    tilt_i, tilt_j = i >= 3, j >= 3
-    return "N*mm/rad" if tilt_i and tilt_j else "N/rad" if tilt_i or tilt_j else "N/mm"
 
 
 def symbol(name: str) -> str:
@@ -214,7 +202,7 @@ def variable(ds, var: str, row=None):
     """DataArray of ``var`` over the case dims (and ``row`` for per-row variables), with its units."""
     ij = k_entry(var)
     if ij is not None:
-        return ds["K"].isel(dof=ij[0], dof_col=ij[1]), k_units(*ij)
+        return ds["K"].isel(dof=ij[0], dof_col=ij[1]), k_entry_units(*ij)
     if var in DISPLACEMENT_NAMES:
         return ds["q"].isel(dof=DISPLACEMENT_NAMES.index(var)), _QUANTITY_UNITS[var]
     if var in LOAD_NAMES:
@@ -283,11 +271,6 @@ def _value_text(name: str, value: float, units: str) -> str:
     return f"{name} = {value * factor:.4g}" + ("" if units == "1" else f" {shown}")
 
 
-def _converged(status) -> np.ndarray:
-    s = np.asarray(status) & st.OUTCOME_MASK
-    return (s == st.CONVERGED) | (s == st.UNLOADED)
-
-
 def _check_axis(ds, name: str, role: str) -> None:
     dims = case_dims(ds)
     if name not in dims or name in ("case", "point"):
@@ -335,7 +318,7 @@ def plot_map(source, var: str, x: str, y: str, *, at=None, row=None, kind: str =
             raise ValueError(f"x and y must be two different axes, got {x!r} twice")
         da, units = variable(ds, var, row)
         da, status, where = select(ds, da, (x, y), at)
-        ok = _converged(status.transpose(y, x).values)
+        ok = st.converged_mask(status.transpose(y, x).values)
         if "row" in da.dims:  # a per-row variable over all rows: the bearing's total, smallest or largest
             da = {"loaded_balls": da.sum, "min_contact_angle": da.min}.get(var, da.max)("row")
         z = np.where(ok, da.transpose(y, x).values, np.nan)
@@ -398,7 +381,7 @@ def plot_lines(source, var, x: str, *, at=None, row=None, series=None, out=None,
             for ax, name in zip(axes, names):
                 da, units = variable(ds, name, row)
                 da, status, where = select(ds, da, keep, at)
-                ok = _converged(status.values)
+                ok = st.converged_mask(status.values)
                 values = np.where(ok[..., None] if "row" in da.dims else ok, da.values, np.nan)
                 # put x first, then the series axis, then row
                 order = [da.dims.index(d) for d in keep] + ([da.dims.index("row")] if "row" in da.dims else [])
@@ -440,7 +423,7 @@ def passage_curve(ds, var: str, *, at=None, x: str = "angle", normalise: str = "
     if "row" in da.dims:
         raise ValueError(f"{var} is per row; passage plots take Kb entries, q or f components")
     da, status, where = select(ds, da, ("position",), at, default="first")
-    values = np.where(_converged(status.values), da.values, np.nan)
+    values = np.where(st.converged_mask(status.values), da.values, np.nan)
     values = np.append(values, values[0])
     angle = np.append(ds["cage_angle"].values, float(ds.attrs["period_rad"]))
     if x == "angle":
@@ -542,7 +525,7 @@ def plot_spectrum(source, var=PAPER_ENTRIES, *, at=None, normalise: str = "mean"
                         raise ValueError(f"{name} has zero mean at this operating point; use normalise='none'")
                     y, ylabel = a[1:] / abs(a[0]) * 100.0, axis_label("amplitude / mean", "%")
                 else:
-                    fy, uy = scale_units(a[1:], k_units(i, j), base_units)
+                    fy, uy = scale_units(a[1:], k_entry_units(i, j), base_units)
                     y, ylabel = a[1:] * fy, axis_label(f"amplitude of {symbol(name)}", uy)
                 ax = axes[0 if shared else k]
                 offset = (k - (len(names) - 1) / 2) * width * step if shared else 0.0

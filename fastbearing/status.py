@@ -45,9 +45,20 @@ def outcome(status: int) -> int:
     return int(status) & OUTCOME_MASK
 
 
+#: Outcomes whose q, f and Kb are the answer (warning bits allowed on top).
+CONVERGED_OUTCOMES = (CONVERGED, UNLOADED)
+
+
 def is_converged(status: int) -> bool:
     """True for a converged or exactly unloaded solve (warnings allowed)."""
-    return outcome(status) in (CONVERGED, UNLOADED)
+    return outcome(status) in CONVERGED_OUTCOMES
+
+
+def converged_mask(status):
+    """:func:`is_converged` of every element of an integer array of status codes."""
+    import numpy as np
+
+    return np.isin(np.asarray(status) & OUTCOME_MASK, CONVERGED_OUTCOMES)
 
 
 def describe(status: int) -> str:

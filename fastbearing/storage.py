@@ -26,7 +26,9 @@ from pathlib import Path
 import h5py
 import numpy as np
 
-DOF_LABELS = ["x", "y", "z", "tx", "ty"]
+from . import status as st
+from .dofs import DISPLACEMENT_UNITS, K_UNITS, LOAD_UNITS
+
 COMPLETE = "fastbearing_complete"
 COMPRESSIONS = ("none", "lzf", "gzip")
 
@@ -63,9 +65,6 @@ def _inner_variable(inner):
 def result_variables(given: str, inner: tuple[str, ...] = ()) -> list[Variable]:
     """The per-case result variables; ``inner`` dims (e.g. ("position",)) come between the case dims and
     each variable's own trailing dims."""
-    from . import status as st
-    from .api import DISPLACEMENT_UNITS, LOAD_UNITS
-
     V = _inner_variable(inner)
     codes = sorted(st.NAMES)                     # every outcome, so the file's key never lags the solver
     flag = {"flag_values": np.array(codes, np.int8),
@@ -76,7 +75,7 @@ def result_variables(given: str, inner: tuple[str, ...] = ()) -> list[Variable]:
         V("q", ("dof",), "f8", ", ".join(DISPLACEMENT_UNITS),
           "inner-ring displacement (dx, dy, dz, bx, by) at the bearing centre"),
         V("f", ("dof",), "f8", ", ".join(LOAD_UNITS), "load on the inner ring (Fx, Fy, Fz, Mx, My) at q"),
-        V("K", ("dof", "dof_col"), "f8", "N/mm, N*mm/rad, N/rad",
+        V("K", ("dof", "dof_col"), "f8", K_UNITS,
           "bearing stiffness matrix Kb = df/dq (N/mm among x,y,z; N*mm/rad among tx,ty; N/rad between)"),
         V("status", (), "i1", "1", "solver status" if given == "load" else "status (0: direct substitution)",
           flag),
@@ -88,6 +87,12 @@ def result_variables(given: str, inner: tuple[str, ...] = ()) -> list[Variable]:
           "contact direction; nan if no ball is loaded)"),
         V("max_contact_angle", ("row",), "f8", "rad", "largest loaded contact angle per row"),
     ]
+
+
+def allocate(variables: list[Variable], sizes: dict[str, int], n: int) -> dict[str, np.ndarray]:
+    """Result arrays for ``n`` cases from the one description of the variables (``sizes``: length of
+    each trailing dim by name): what a block computes into, here or on a Dask worker."""
+    return {v.name: np.empty((n, *(sizes[d] for d in v.trailing)), v.dtype) for v in variables}
 
 
 def check_output_path(out: Path) -> None:

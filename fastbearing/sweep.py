@@ -12,7 +12,7 @@ from .config import CACHE, ERROR_MODEL
 from .kernel import ball_loop
 from .linalg import cholesky_solve
 from .solver import WORK_ROWS, solve_case
-from .status import CONVERGED, NONFINITE_RESULT
+from .status import CONVERGED, NONFINITE_RESULT, OUTCOME_MASK
 
 
 @njit(parallel=True, cache=CACHE, error_model=ERROR_MODEL)
@@ -146,7 +146,7 @@ def map_sweep(inputs, given_load, line_length, q, f, K, status, iterations, resi
         for line in range(g, n_lines, groups):
             for k in range(line_length):
                 i = line * line_length + k
-                warm = k > 0 and (status[i - 1] & 15) == 0
+                warm = k > 0 and (status[i - 1] & OUTCOME_MASK) == CONVERGED
                 if warm:
                     tangent_predictor(given_load, inputs[i], q[i - 1], f[i - 1], K[i - 1], q[i], predictor)
                 status[i], iterations[i], residual[i] = operating_point(
@@ -175,7 +175,7 @@ def passage_sweep(inputs, given_load, tables, exponent, q, f, K, status, iterati
         contact_angle = np.empty(n_balls)
         for i in range(g, n_points, groups):
             for p in range(n_positions):
-                warm = p > 0 and (status[i, p - 1] & 15) == 0
+                warm = p > 0 and (status[i, p - 1] & OUTCOME_MASK) == CONVERGED
                 if warm:
                     for d in range(5):
                         q[i, p, d] = q[i, p - 1, d]

@@ -1,6 +1,8 @@
-"""Load maps on a Dask LocalCluster: identical to a local run bit for bit, also when a worker is
-killed mid-run, and resumable."""
+"""Jobs on a Dask LocalCluster: load maps and passage tables identical to a local run bit for bit, also
+when a worker is killed mid-run, and resumable."""
 
+import dataclasses
+import importlib
 import os
 import signal
 import threading
@@ -56,47 +58,67 @@ BIG = {"bearing": CONFIG["bearing"], "loadmap": {**CONFIG["loadmap"], "Fx": {"st
 
 
 def test_killed_worker_blocks_are_recomputed(client, tmp_path):
-    """SIGKILL one worker process while blocks are out on it: the scheduler recomputes them
-    (on the survivor or the restarted worker) and the file is still identical to a local run."""
+    """SIGKILL a worker process while it holds blocks: the scheduler recomputes them (on the
+    survivor or the restarted worker) and the file is still identical to a local run. The kill
+    waits for the worker to be processing a block, not for a time, so it cannot miss the run."""
     reference = fb.loadmap(BIG, tmp_path / "reference.h5", progress=False)
-    pids = list(client.run(os.getpid).values())
+    pids = client.run(os.getpid)                               # worker address -> pid
     killed, finished = [], threading.Event()
 
-    def kill_one_worker_mid_run():
+    def kill_a_busy_worker():
         while not finished.is_set():
-            if sum(len(v) for v in client.processing().values()) > 0:
-                time.sleep(0.3)  # let some blocks finish first
-                if not finished.is_set():
-                    os.kill(pids[0], signal.SIGKILL)
-                    killed.append(pids[0])
+            busy = [addr for addr, keys in client.processing().items() if keys and addr in pids]
+            if busy:
+                os.kill(pids[busy[0]], signal.SIGKILL)
+                killed.append(busy[0])
                 return
-            time.sleep(0.01)
+            time.sleep(0.005)
 
-    watcher = threading.Thread(target=kill_one_worker_mid_run)
+    watcher = threading.Thread(target=kill_a_busy_worker)
     watcher.start()
     try:
         out = fb.loadmap(BIG, tmp_path / "killed.h5", progress=False, client=client, max_in_flight=4)
     finally:
         finished.set()
         watcher.join()
-    assert killed, "the run finished before a worker could be killed"
+    assert killed, "no worker was ever seen processing a block"
     assert_identical(out, reference)
     client.wait_for_workers(2, timeout=60)  # the nanny restarts the killed worker
 
 
-def test_resume_through_dask(client, local_map, tmp_path):
-    """A local run killed half-way, resumed on the cluster: still identical."""
-    from fastbearing import storage
-    from fastbearing.grid import plan_blocks
-    from fastbearing.loadmap import read_config, _create
+def _interrupted_after(job, n_blocks):
+    calls = []
 
-    cfg = read_config(CONFIG)
+    def compute(inputs, res):
+        if len(calls) == n_blocks:
+            raise KeyboardInterrupt
+        calls.append(1)
+        job.compute(inputs, res)
+
+    return dataclasses.replace(job, compute=compute)
+
+
+def test_resume_through_dask(client, local_map, tmp_path):
+    """A local run interrupted after 3 blocks, resumed on the cluster: still identical."""
+    from fastbearing import jobs
+
+    module = importlib.import_module("fastbearing.loadmap")
     out = tmp_path / "resumed.h5"
-    part = storage.part_path(out)
-    blocks = plan_blocks(cfg.cases.shape, cfg.cases.line_length, cfg.chunk)
-    _create(cfg, part, blocks)  # as left by a run killed before any block finished
+    with pytest.raises(KeyboardInterrupt):
+        jobs.run(_interrupted_after(module.job(module.read_config(CONFIG)), 3), out, progress=False)
     fb.loadmap(CONFIG, out, progress=False, client=client, resume=True)
     assert_identical(out, local_map)
+
+
+def test_passage_table_on_dask_equals_local(client, tmp_path):
+    table = {"bearing": CONFIG["bearing"], "passage": {"given": "load", "Fx": {"start": 200.0, "stop": 3000.0,
+             "num": 12}, "Fz": [500.0, 2000.0], "positions": 32, "chunk": 4}}
+    local = fb.passage(table, tmp_path / "local.h5", progress=False)
+    remote = fb.passage(table, tmp_path / "dask.h5", progress=False, client=client, max_in_flight=2)
+    with h5py.File(local, "r") as fa, h5py.File(remote, "r") as fb_:
+        for name in (*VARIABLES, "K_mean", "K_amplitude", "K_phase", "K_variation"):
+            np.testing.assert_array_equal(fa[name][...], fb_[name][...], err_msg=name)
+        assert fb_.attrs["engine"] == "dask"
 
 
 def test_cli_dask_flag(tmp_path):

@@ -72,3 +72,27 @@ def test_no_import_circles():
     assert "api" in graph and "bearing" in graph["api"]        # the parser sees the package's imports
     cycle = find_cycle(graph)
     assert cycle is None, " -> ".join(cycle)
+
+
+def test_stale_kernel_cache_is_dropped_also_under_numba_cache_dir(tmp_path):
+    """A changed kernel source must never run old machine code, wherever numba keeps its cache."""
+    import os
+    import subprocess
+    import sys
+
+    script = ("from fastbearing import _cache; import sys; f = _cache.cache_folder(); "
+              "print(f); (f / 'kernel.ball_loop-1.py311.nbi').write_text('stale') if sys.argv[1] == 'plant' else None; "
+              "(f / _cache._STAMP_NAME).write_text('old hash') if sys.argv[1] == 'plant' else None")
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache")}
+    folder = subprocess.run([sys.executable, "-c", "import fastbearing; " + script, "plant"], env=env,
+                            capture_output=True, text=True, check=True).stdout.strip()
+    from pathlib import Path
+
+    folder = Path(folder)
+    assert folder.is_relative_to(tmp_path / "cache")
+    assert (folder / "kernel.ball_loop-1.py311.nbi").exists()
+    subprocess.run([sys.executable, "-c", "import fastbearing"], env=env, check=True)
+    assert not (folder / "kernel.ball_loop-1.py311.nbi").exists()
+    from fastbearing import _cache
+
+    assert (folder / "fastbearing-numba-cache.stamp").read_text() == _cache.source_hash()

@@ -1,5 +1,5 @@
 """Load maps: configs, identity across threads and chunk sizes, agreement with
-solve, HDF5/xarray layout, and safety (overwrite, kill and resume, Ctrl-C, memory)."""
+solve, HDF5/xarray layout, and safety (overwrite, kill and resume, Ctrl-C; memory in bench/)."""
 
 import json
 import signal
@@ -285,37 +285,9 @@ def test_ctrl_c_stops_quickly_and_leaves_a_resumable_file(tmp_path):
     out, part = tmp_path / "int.h5", tmp_path / "int.h5.part"
     proc = start_cli(cfg, out)
     wait_for_blocks(part, proc, at_least=2)
-    sent = time.time()
     proc.send_signal(signal.SIGINT)
-    _, err = proc.communicate(timeout=30)
-    # the issue's responsiveness contract (a block here takes ~20 ms), with slack for a slow CI machine
-    assert time.time() - sent < 5.0
+    _, err = proc.communicate(timeout=60)     # how fast it stops is measured in bench/test_jobs.py
     assert proc.returncode == 130 and "--resume" in err and "Traceback" not in err
     assert not out.exists()
     loadmap(cfg, out, resume=True, progress=False)
     assert open_dataset(out)["status"].size == 60 * 40 * 50
-
-
-def test_memory_is_bounded_by_the_block_not_the_map(tmp_path):
-    """Peak resident memory of a map 50x its block size stays near that of a one-block map."""
-    script = textwrap.dedent("""
-        import resource, sys
-        from fastbearing.loadmap import loadmap
-        loadmap(sys.argv[1], sys.argv[2], progress=False)
-        print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)
-    """)
-
-    def peak_kb(n_dx):
-        cfg = config(tmp_path, f"""
-            given = "displacement"
-            dx = {{ start = -0.02, stop = 0.02, num = {n_dx} }}
-            dz = {{ start = 0.0, stop = 0.03, num = 100 }}
-            chunk = 4000
-        """, name=f"mem{n_dx}.toml")
-        p = subprocess.run([sys.executable, "-c", script, str(cfg), str(tmp_path / f"mem{n_dx}.h5")],
-                           capture_output=True, text=True, timeout=300)
-        assert p.returncode == 0, p.stderr
-        return int(p.stdout.split()[-1])
-
-    small, large = peak_kb(40), peak_kb(2000)  # 4 000 vs 200 000 cases (~66 MB of results)
-    assert large - small < 30_000, (small, large)

@@ -1,0 +1,43 @@
+"""The five degrees of freedom: names, units and the units of every Kb entry.
+
+A leaf module (it imports nothing of fastbearing), read by the API, the grid,
+the HDF5 schema, export, plots and the command line, so a name or a unit is
+written once.
+
+q = (dx, dy, dz, bx, by): inner-ring displacement, mm and rad.
+f = (Fx, Fy, Fz, Mx, My): load on the inner ring, N and N*mm.
+Kb = df/dq: N/mm among translations, N*mm/rad among tilts, N/rad between.
+"""
+
+#: Short labels of the five DOFs (HDF5 ``dof`` coordinate, CSV column names).
+DOF_LABELS = ("x", "y", "z", "tx", "ty")
+LOAD_NAMES = ("Fx", "Fy", "Fz", "Mx", "My")
+DISPLACEMENT_NAMES = ("dx", "dy", "dz", "bx", "by")
+LOAD_UNITS = ("N", "N", "N", "N*mm", "N*mm")
+DISPLACEMENT_UNITS = ("mm", "mm", "mm", "rad", "rad")
+#: The units of Kb as one attribute string.
+K_UNITS = "N/mm, N*mm/rad, N/rad"
+#: The file-wide units statement of every output.
+UNITS_CONVENTION = "N, mm, rad; moments N*mm; stiffness N/mm, N*mm/rad, N/rad"
+
+#: Grid inputs by what is given.
+AXES = {"load": LOAD_NAMES, "displacement": DISPLACEMENT_NAMES}
+UNITS = {"load": LOAD_UNITS, "displacement": DISPLACEMENT_UNITS}
+LONG_NAMES = {
+    "Fx": "radial force x on the inner ring", "Fy": "radial force y on the inner ring",
+    "Fz": "axial force on the inner ring", "Mx": "moment about x on the inner ring",
+    "My": "moment about y on the inner ring",
+    "dx": "inner-ring displacement x", "dy": "inner-ring displacement y", "dz": "inner-ring axial displacement",
+    "bx": "inner-ring tilt about x", "by": "inner-ring tilt about y",
+}
+
+
+def k_entry_units(i: int, j: int) -> str:
+    """Units of Kb[i, j]: N/mm (both translations), N*mm/rad (both tilts), N/rad (one of each)."""
+    tilt_i, tilt_j = i >= 3, j >= 3
+    return "N*mm/rad" if tilt_i and tilt_j else "N/rad" if tilt_i or tilt_j else "N/mm"
+
+
+#: The 15 independent entries of the symmetric Kb: (row, column, name with units), e.g. "kxz_N/mm".
+K_ENTRIES = tuple((i, j, f"k{DOF_LABELS[i]}{DOF_LABELS[j]}_{k_entry_units(i, j)}")
+                  for i in range(5) for j in range(i, 5))

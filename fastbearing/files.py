@@ -1,0 +1,33 @@
+"""Writing files so that a half-written one never appears under its final name.
+
+A leaf module: every writer (export, plots, the paper report, passage CSVs)
+goes through :func:`publish`.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+from typing import Callable
+
+
+def publish(path: Path, write: Callable[[Path], object]) -> Path:
+    """Run ``write(tmp)`` on a temporary name beside ``path``, then rename it onto ``path``.
+
+    The rename is atomic on one file system, so a reader sees the old file or
+    the whole new one; on any failure (or Ctrl-C) the temporary file is
+    removed and ``path`` is untouched.
+    """
+    path = Path(path)
+    tmp = path.with_name(path.name + ".part")
+    try:
+        write(tmp)
+        os.replace(tmp, path)
+    finally:
+        tmp.unlink(missing_ok=True)
+    return path
+
+
+def publish_text(path: Path, text: str) -> Path:
+    """:func:`publish` of a UTF-8 text."""
+    return publish(path, lambda tmp: Path(tmp).write_text(text, encoding="utf-8"))

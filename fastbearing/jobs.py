@@ -1,0 +1,308 @@
+"""The one job runner: load maps and ball-passage tables are both jobs.
+
+A job is a bearing, its cases (a grid or a table of loads or displacements),
+the result variables of one case (with the lengths of their own dims), a
+compute function that fills the results of a block of cases, and the
+attributes and fingerprint that describe it. The runner owns everything
+else, once for every kind of job:
+
+- checks before anything is created: threads, output folder, disk space;
+- the working file ``OUT.h5.part`` (storage.py), block planning, resume of an
+  interrupted run of the same config, never overwriting without being told;
+- the blocks computed here (a background writer overlaps HDF5 with the next
+  block) or on a Dask cluster (distributed.py), identical either way;
+- Ctrl-C between blocks (a second one stops at once), the progress bar, the
+  final status counts and summary line.
+
+Units: N, mm, rad throughout (see dofs.py).
+"""
+
+from __future__ import annotations
+
+import json
+import signal
+import sys
+import threading
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Callable
+
+import numpy as np
+
+from . import status as st, storage, validate
+from .api import check_threads, num_threads
+from .bearing import Bearing
+from .dofs import AXES, DOF_LABELS, LONG_NAMES, UNITS, UNITS_CONVENTION
+from .grid import CaseSet, plan_blocks
+from .solver import SolverSettings
+
+#: Most blocks a Dask run may have out on the cluster at once.
+MAX_IN_FLIGHT = 10_000
+
+
+@dataclass(frozen=True)
+class Job:
+    """Everything the runner needs to compute a kind of job and write it to HDF5.
+
+    ``compute(inputs, results)`` fills ``results`` (a dict of arrays, one per
+    variable, leading dim the block's cases) for the (n, 5) ``inputs`` of a
+    block; it must be picklable for Dask (a module-level function or a
+    ``functools.partial`` of one) and its results must not depend on where
+    or on how many threads it runs.
+    """
+
+    kind: str                                # "load map", "ball-passage table": in messages and the title
+    bearing: Bearing
+    cases: CaseSet
+    variables: tuple[storage.Variable, ...]
+    sizes: dict[str, int]                    # length of every non-case dim the variables use
+    compute: Callable[[np.ndarray, dict], None]
+    settings: SolverSettings
+    method: str
+    chunk: int
+    text: str                                # the config as written
+    source: Path | None
+    fingerprint: str
+    compression: str = "none"
+    line_length: int = 1                     # cases per continuation line (whole lines per block)
+    own_dims: tuple[storage.Coordinate, ...] = ()    # the job's own non-case dims (e.g. position, harmonic)
+    aux_coords: tuple = ()                   # (Coordinate, dim name): e.g. cage_angle(position)
+    attrs: dict = field(default_factory=dict)
+    solves_per_case: int = 1                 # e.g. cage positions per operating point
+    case_word: str = "case"                  # "case" or "point", in the summary and progress bar
+
+    def bytes_needed(self) -> int:
+        return self.cases.n_cases * storage.bytes_per_case(list(self.variables), self.sizes)
+
+
+# -- result arrays ---------------------------------------------------------------------------------
+
+class Buffers:
+    """Result arrays of the largest block, allocated once and reused for every block."""
+
+    def __init__(self, variables, sizes: dict[str, int], n: int):
+        self.arrays = storage.allocate(variables, sizes, n)
+
+    def view(self, n: int) -> dict[str, np.ndarray]:
+        return {k: v[:n] for k, v in self.arrays.items()}
+
+
+# -- the file's coordinates and attributes ----------------------------------------------------------
+
+def case_coordinates(cases: CaseSet):
+    """(case dims, scalar coordinates, auxiliary coordinates) of a grid or a case table."""
+    C = storage.Coordinate
+    names, units = AXES[cases.given], UNITS[cases.given]
+    dim = cases.table_dim
+    if cases.table is not None:
+        case_dims = [C(dim, np.arange(cases.n_cases), "1", f"{dim} number")]
+        aux = [(C(n, cases.table[:, i], u, LONG_NAMES[n]), dim) for i, (n, u) in enumerate(zip(names, units))]
+        return case_dims, [], aux
+    if cases.dims:
+        case_dims = [C(a.name, a.values, a.units, LONG_NAMES[a.name]) for a in cases.dims]
+    else:
+        case_dims = [C(dim, np.arange(1), "1", f"the single {dim}")]
+    scalars = [C(a.name, a.values, a.units, LONG_NAMES[a.name], False) for a in cases.axes if not a.is_dim]
+    return case_dims, scalars, []
+
+
+def _dof_dims(bearing: Bearing) -> list[storage.Coordinate]:
+    import h5py
+
+    C = storage.Coordinate
+    labels = np.array(DOF_LABELS, dtype=h5py.string_dtype())
+    return [C("dof", labels, "1", "degree of freedom: x, y, z translations; tx, ty tilts"),
+            C("dof_col", labels, "1", "degree of freedom (column of K)"),
+            C("row", np.arange(bearing.n_rows), "1", "bearing row (as in the bearing definition)")]
+
+
+def _attributes(job: Job, n_blocks: int) -> dict:
+    return {
+        "title": f"fastbearing {job.kind}", "Conventions": "CF-1.8", "given": job.cases.given,
+        "units_convention": UNITS_CONVENTION,
+        "config": job.text, "config_source": str(job.source or ""), "config_fingerprint": job.fingerprint,
+        "bearing": job.bearing.describe(), "bearing_json": json.dumps(job.bearing.to_dict()),
+        "solver_method": job.method, "solver_rtol": job.settings.rtol, "solver_max_iter": job.settings.max_iter,
+        "chunk": job.chunk, "compression": job.compression, "n_cases": job.cases.n_cases, "n_blocks": n_blocks,
+        **job.attrs, **storage.versions(),
+    }
+
+
+def _create(job: Job, part: Path, blocks) -> None:
+    case_dims, scalars, aux = case_coordinates(job.cases)
+    storage.create(part, case_dims, [*job.own_dims, *_dof_dims(job.bearing)], scalars, list(job.variables),
+                   _attributes(job, len(blocks)), len(blocks), [*aux, *job.aux_coords])
+
+
+# -- running ---------------------------------------------------------------------------------------
+
+class _Interrupt:
+    """Ctrl-C sets a flag checked between blocks; a second Ctrl-C stops at once."""
+
+    def __init__(self):
+        self.requested = False
+        self._old = None
+
+    def __enter__(self):
+        if threading.current_thread() is threading.main_thread():
+            self._old = signal.signal(signal.SIGINT, self._handle)
+        return self
+
+    def _handle(self, signum, frame):
+        if self.requested:
+            raise KeyboardInterrupt
+        self.requested = True
+
+    def __exit__(self, *exc):
+        if self._old is not None:
+            signal.signal(signal.SIGINT, self._old)
+
+
+def _progress(total: int, initial: int, show, unit: str):
+    show = sys.stderr.isatty() if show is None else show
+    if not show:
+        return None
+    from tqdm import tqdm
+
+    return tqdm(total=total, initial=initial, unit=unit, unit_scale=True, dynamic_ncols=True, smoothing=0.1)
+
+
+def check_in_flight(max_in_flight, name: str = "max_in_flight") -> int | None:
+    """None (the default: 2 per worker thread) or an integer in [1, MAX_IN_FLIGHT]."""
+    if max_in_flight is None:
+        return None
+    return validate.integer(max_in_flight, name, low=1, high=MAX_IN_FLIGHT)
+
+
+def output_path(output, source: Path | None) -> Path:
+    """The output file: as given, or the config's name with suffix .h5 in the current folder."""
+    if output is not None:
+        return Path(output)
+    if source is None:
+        raise ValueError("output is required when the config is not a file")
+    return Path(source.name).with_suffix(".h5")
+
+
+def run(job: Job, output: Path, *, threads=None, resume=False, overwrite=False, progress=None, client=None,
+        max_in_flight=None) -> Path:
+    """Compute ``job`` into ``output`` (HDF5); returns the absolute path of the finished file.
+
+    Every argument is checked before any file is created. A killed or
+    interrupted run keeps its finished blocks in ``output.part``; ``resume``
+    continues it (same config only) and the result is identical bit for bit
+    to an uninterrupted run. Nothing is overwritten unless ``overwrite``.
+    """
+    check_threads(threads)
+    max_in_flight = check_in_flight(max_in_flight)
+    output = Path(output)
+    storage.check_output_path(output)
+    if not (resume and storage.part_path(output).exists()):
+        storage.check_disk_space(output, job.bytes_needed(), f"this {job.kind} ({job.cases.n_cases} {job.case_word}s)")
+    out, part, resuming = storage.prepare_output(output, job.fingerprint, resume, overwrite)
+    if resume and not part.exists():
+        print(f"fastbearing: {out} is already complete; nothing to resume", file=sys.stderr)
+        return out.absolute()
+    blocks = plan_blocks(job.cases.shape, job.line_length, job.chunk)
+    if not resuming:
+        _create(job, part, blocks)
+    pf = storage.PartFile(part)
+    started = time.perf_counter()
+    done = pf.done_mask()
+    pending = [b for b in blocks if not done[b.index]]
+    bar = _progress(job.cases.n_cases, sum(b.size for b in blocks if done[b.index]), progress, job.case_word)
+    on_written = (lambda b: bar.update(b.size)) if bar is not None else None
+    try:
+        with _Interrupt() as interrupt:
+            if client is None:
+                size = max(b.size for b in blocks)
+                # two buffer sets: one being computed, one being written
+                writer = storage.BlockWriter(pf, [Buffers(job.variables, job.sizes, size) for _ in range(2)],
+                                             on_written)
+                with num_threads(threads):
+                    _run_here(job, pending, writer, interrupt)
+            else:
+                from .distributed import run_blocks
+
+                writer = storage.BlockWriter(pf, [object() for _ in range(4)], on_written)
+                pf.fh.attrs.update(run_blocks(client, job, pending, writer, interrupt, max_in_flight))
+        if bar is not None:
+            bar.close()
+    except KeyboardInterrupt:
+        pf.close()
+        print(f"\nfastbearing: interrupted; finished blocks are kept in {part}; continue with --resume",
+              file=sys.stderr)
+        raise
+    except BaseException:
+        pf.close()
+        raise
+    computed = sum(b.size for b in pending)
+    counts = _status_counts(pf)
+    pf.close()
+    wall = time.perf_counter() - started
+    storage.finish(part, out, job.compression, blocks, {"wall_time_s": wall,
+                   "status_counts": json.dumps({st.describe(c): k for c, k in counts.items()})},
+                   [v.name for v in job.variables])
+    print(_summary(job, counts, wall, computed), file=sys.stderr)
+    return out.absolute()
+
+
+def _run_here(job: Job, pending, writer, interrupt) -> None:
+    """Compute blocks in this process, overlapping each block's HDF5 write with the next block's compute."""
+    try:
+        for block in pending:
+            buf = writer.buffer()
+            res = buf.view(block.size)
+            job.compute(job.cases.inputs(block.start, block.stop), res)
+            writer.submit(block, res, buf)
+            if interrupt.requested:
+                raise KeyboardInterrupt
+    finally:
+        writer.close()  # also on Ctrl-C: the block in flight is written and kept for --resume
+
+
+def _status_counts(pf: storage.PartFile) -> dict[int, int]:
+    """Solves per status code, read in slices so memory stays bounded."""
+    counts: dict[int, int] = {}
+    ds = pf.fh["status"]
+    step = max(1, 4_000_000 // max(1, int(np.prod(ds.shape[1:]))))
+    for a in range(0, ds.shape[0], step):
+        codes, n = np.unique(ds[a:a + step], return_counts=True)
+        for c, k in zip(codes.tolist(), n.tolist()):
+            counts[c] = counts.get(c, 0) + k
+    return counts
+
+
+def _summary(job: Job, counts: dict[int, int], wall: float, computed: int) -> str:
+    """One line: how many, what share converged and by status, how long."""
+    total = sum(counts.values())
+    ok = sum(k for code, k in counts.items() if st.is_converged(code))
+    by_status = ", ".join(f"{st.describe(code)} {k}" for code, k in sorted(counts.items(), key=lambda x: -x[1]))
+    what = f"{job.cases.n_cases} {job.case_word}s"
+    if job.solves_per_case > 1:
+        what += f" x {job.solves_per_case} positions"
+    rate = computed * job.solves_per_case / wall if wall > 0 else float("inf")
+    return (f"fastbearing: {what}, {100.0 * ok / max(total, 1):.2f} % converged ({by_status}); "
+            f"{wall:.2f} s wall, {rate:,.0f} solves/s")
+
+
+# -- opening results -------------------------------------------------------------------------------
+
+def require_xarray():
+    """Check for xarray and h5netcdf before any work is done, not after."""
+    try:
+        import h5netcdf  # noqa: F401
+        import xarray  # noqa: F401
+    except ImportError:
+        raise ImportError("as_dataset needs xarray and h5netcdf: pip install 'fastbearing[xarray]'") from None
+
+
+def open_dataset(path):
+    """Open a finished map or table as an ``xarray.Dataset`` (engine h5netcdf); refuses unfinished files."""
+    path = Path(path)
+    if not storage.is_complete(path):
+        raise ValueError(f"{path} is not a finished fastbearing file")
+    require_xarray()
+    import xarray as xr
+
+    return xr.open_dataset(path, engine="h5netcdf")

@@ -1,0 +1,168 @@
+"""The one job runner: load maps and ball-passage tables get the same resume, Ctrl-C, progress,
+summary and checks, because they run through the same code (jobs.py)."""
+
+import dataclasses
+import signal
+import subprocess
+import sys
+import time
+
+import h5py
+import numpy as np
+import pytest
+
+import importlib
+
+import fastbearing as fb
+from fastbearing import jobs, storage
+
+# the modules, not the functions of the same name that the package exports
+loadmap_module = importlib.import_module("fastbearing.loadmap")
+passage_module = importlib.import_module("fastbearing.passage")
+
+BEARING = {"preset": "gunduz2013", "arrangement": "DB"}
+MAP = {"bearing": BEARING, "loadmap": {"Fx": {"start": -2000.0, "stop": 2000.0, "num": 8},
+                                       "Fz": {"start": 500.0, "stop": 6000.0, "num": 12}, "chunk": 16}}
+TABLE = {"bearing": BEARING, "passage": {"given": "load", "Fx": {"start": 200.0, "stop": 3000.0, "num": 9},
+                                         "Fz": 1500.0, "positions": 16, "chunk": 2}}
+KINDS = {"loadmap": (MAP, loadmap_module, fb.loadmap), "passage": (TABLE, passage_module, fb.passage)}
+
+
+def read_all(path):
+    """Every dataset of a finished file but the provenance, as arrays."""
+    with h5py.File(path, "r") as fh:
+        return {name: fh[name][...] for name in fh}
+
+
+def assert_identical(a, b):
+    da, db = read_all(a), read_all(b)
+    assert set(da) == set(db)
+    for name in da:
+        np.testing.assert_array_equal(da[name], db[name], err_msg=name)
+
+
+def interrupted_after(job, n_blocks):
+    """The same job, but Ctrl-C arrives while block ``n_blocks`` (0-based) computes: deterministic,
+    no timing involved."""
+    calls = []
+
+    def compute(inputs, res):
+        if len(calls) == n_blocks:
+            raise KeyboardInterrupt
+        calls.append(1)
+        job.compute(inputs, res)
+
+    return dataclasses.replace(job, compute=compute)
+
+
+@pytest.mark.parametrize("kind", sorted(KINDS))
+def test_interrupted_run_resumes_bit_identical(tmp_path, kind):
+    config, module, run = KINDS[kind]
+    reference = run(config, tmp_path / "reference.h5", progress=False)
+    job = module.job(module.read_config(config))
+    out = tmp_path / "out.h5"
+    with pytest.raises(KeyboardInterrupt):
+        jobs.run(interrupted_after(job, 3), out, progress=False)
+    part = tmp_path / "out.h5.part"
+    assert part.exists() and not out.exists()
+    with h5py.File(part, "r") as fh:
+        assert fh["block_done"][...].tolist()[:4] == [1, 1, 1, 0]       # finished blocks kept, nothing more
+    with pytest.raises(ValueError, match=r"an unfinished run exists .*--resume"):
+        run(config, out, progress=False)
+    run(config, out, resume=True, progress=False)
+    assert_identical(out, reference)
+    assert not part.exists()
+
+
+def test_passage_resume_refuses_a_changed_config(tmp_path):
+    job = passage_module.job(passage_module.read_config(TABLE))
+    with pytest.raises(KeyboardInterrupt):
+        jobs.run(interrupted_after(job, 1), tmp_path / "t.h5", progress=False)
+    changed = {"bearing": BEARING, "passage": {**TABLE["passage"], "positions": 32}}
+    with pytest.raises(ValueError, match="different config"):
+        fb.passage(changed, tmp_path / "t.h5", resume=True, progress=False)
+
+
+def test_passage_cli_resume_and_summary(tmp_path):
+    cfg = tmp_path / "t.toml"
+    cfg.write_text('[bearing]\npreset = "gunduz2013"\narrangement = "DB"\n\n[passage]\ngiven = "load"\n'
+                   "Fx = { start = 200.0, stop = 3000.0, num = 9 }\nFz = 1500.0\npositions = 16\nchunk = 2\n")
+    job = passage_module.job(passage_module.read_config(cfg))
+    with pytest.raises(KeyboardInterrupt):
+        jobs.run(interrupted_after(job, 2), tmp_path / "t.h5", progress=False)
+    p = subprocess.run([sys.executable, "-m", "fastbearing.cli", "passage", str(cfg), "-o", str(tmp_path / "t.h5"),
+                        "--resume", "--csv"], capture_output=True, text=True, timeout=300, cwd=tmp_path)
+    assert p.returncode == 0, p.stderr
+    assert "9 points x 16 positions, 100.00 % converged" in p.stderr
+    assert len(list(tmp_path.glob("t_point*.csv"))) == 9
+    reference = fb.passage(cfg, tmp_path / "ref.h5", progress=False)
+    assert_identical(tmp_path / "t.h5", reference)
+
+
+def test_passage_ctrl_c_exits_130_and_keeps_finished_blocks(tmp_path):
+    """A real SIGINT to a running passage: exit 130, one line saying how to resume, blocks kept."""
+    cfg = tmp_path / "big.toml"
+    cfg.write_text('[bearing]\npreset = "gunduz2013"\narrangement = "DB"\n\n[passage]\ngiven = "load"\n'
+                   "Fx = { start = 200.0, stop = 3000.0, num = 400 }\nFz = { start = 500.0, stop = 5000.0, num = 20 }"
+                   "\npositions = 64\nchunk = 100\n")
+    part = tmp_path / "big.h5.part"
+    proc = subprocess.Popen([sys.executable, "-m", "fastbearing.cli", "passage", str(cfg), "--threads", "1"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=tmp_path)
+    deadline = time.time() + 120
+    while time.time() < deadline and proc.poll() is None and _blocks_done(part) < 2:
+        time.sleep(0.02)
+    assert proc.poll() is None, "the run ended before it could be interrupted"
+    proc.send_signal(signal.SIGINT)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 130 and "--resume" in err and "Traceback" not in err
+    assert part.exists() and _blocks_done(part) >= 2 and not (tmp_path / "big.h5").exists()
+
+
+def _blocks_done(part):
+    try:
+        with h5py.File(part, "r", locking=False) as fh:     # the writer holds HDF5's lock
+            return int(fh["block_done"][...].sum())
+    except (OSError, KeyError):
+        return 0
+
+
+@pytest.mark.parametrize("kind", sorted(KINDS))
+def test_progress_bar_counts_every_case(tmp_path, kind, capsys):
+    config, _, run = KINDS[kind]
+    run(config, tmp_path / "p.h5", progress=True)
+    err = capsys.readouterr().err
+    n = 96 if kind == "loadmap" else 9
+    word = "case" if kind == "loadmap" else "point"
+    import re
+
+    assert re.search(rf"100%.*\b{n}(\.0+)?/{n}(\.0+)? .*{word}/s", err), err
+    assert "% converged" in err.splitlines()[-1]
+
+
+def test_one_description_of_the_variables_allocates_and_writes(tmp_path):
+    """The arrays the runner allocates are exactly the datasets the file holds (names, shapes, dtypes)."""
+    for config, module, run in KINDS.values():
+        job = module.job(module.read_config(config))
+        arrays = storage.allocate(job.variables, job.sizes, job.cases.n_cases)
+        out = run(config, tmp_path / f"{module.__name__}.h5", progress=False)
+        with h5py.File(out, "r") as fh:
+            for name, a in arrays.items():
+                ds = fh[name]
+                assert ds.dtype == a.dtype, name
+                assert ds.shape == job.cases.shape + a.shape[1:], name
+
+
+@pytest.mark.parametrize("args, words", [
+    (["--in-flight", "0", "--dask", "local:1"], "--in-flight must be an integer in [1, 10000], got 0"),
+    (["--in-flight", "2"], "--in-flight goes with --dask"),
+    (["--threads", "0"], "threads"),
+])
+@pytest.mark.parametrize("command", ["loadmap", "passage"])
+def test_job_options_are_checked_before_anything_starts(tmp_path, command, args, words):
+    cfg = tmp_path / "c.toml"
+    table = "loadmap" if command == "loadmap" else "passage"
+    cfg.write_text(f'[bearing]\npreset = "gunduz2013"\n\n[{table}]\nFx = [100.0, 200.0]\n')
+    p = subprocess.run([sys.executable, "-m", "fastbearing.cli", command, str(cfg), *args],
+                       capture_output=True, text=True, timeout=120, cwd=tmp_path)
+    assert p.returncode == 2 and words in p.stderr and "Traceback" not in p.stderr, p.stderr
+    assert sorted(x.name for x in tmp_path.iterdir()) == ["c.toml"]
