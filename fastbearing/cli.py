@@ -12,12 +12,14 @@ import sys
 
 import numpy as np
 
-from .api import solve, stiffness
-from .dofs import DISPLACEMENT_NAMES, LOAD_NAMES
-from .bearing import preset_names
+from .api import METHODS, solve, stiffness
+from .bearing import ARRANGEMENTS, preset_names
 from .bearing_file import load_bearing, preset_bearing
 from .contacts import ball_contacts
+from .dofs import DISPLACEMENT_NAMES, LOAD_NAMES
+from .export import FORMATS as EXPORT_FORMATS
 from .geometry import load_centre_spread
+from .plot import NORMALISE, PASSAGE_X
 
 EXIT_USAGE = 2
 
@@ -75,7 +77,7 @@ def build_parser() -> argparse.ArgumentParser:
     which = p.add_mutually_exclusive_group(required=True)
     which.add_argument("--preset", choices=preset_names(), help="a shipped bearing (with --arrangement)")
     which.add_argument("--bearing", metavar="FILE.toml", help="a bearing file with a [bearing] table")
-    p.add_argument("--arrangement", choices=["single", "DB", "DF", "DT"],
+    p.add_argument("--arrangement", choices=ARRANGEMENTS,
                    help="arrangement for --preset (default: the preset's own, DB for gunduz2013)")
     given = p.add_mutually_exclusive_group(required=True)
     given.add_argument("--load", metavar="Fx,Fy,Fz,Mx,My",
@@ -84,7 +86,7 @@ def build_parser() -> argparse.ArgumentParser:
     given.add_argument("--displacement", metavar="dx,dy,dz,bx,by",
                        help="inner-ring displacement at the bearing centre: mm, mm, mm, rad, rad "
                             "(negative first value: --displacement=-0.01,0,0.02,0,0)")
-    p.add_argument("--method", choices=["newton", "broyden"], default="newton",
+    p.add_argument("--method", choices=list(METHODS), default="newton",
                    help="solver for --load (default newton)")
     p.add_argument("--json", action="store_true", help="print one JSON object (q, f, K, status, converged, "
                    "iterations, residual; with --balls also balls) on stdout")
@@ -138,7 +140,7 @@ def build_parser() -> argparse.ArgumentParser:
     sh.add_argument("config", metavar="CONFIG.toml", help="config with a [shaft] table")
     sh.add_argument("--json", action="store_true", help="print one JSON object (q, K_system, bearings, "
                     "frequencies)")
-    sh.add_argument("--method", choices=["newton", "broyden"], default="newton", help="solver (default newton)")
+    sh.add_argument("--method", choices=list(METHODS), default="newton", help="solver (default newton)")
     ex = sub.add_parser("export", help="write Kb for other tools: csv, json, npz, Nastran DMIG, ROSS",
                         description=(
                             "Export Kb from a `solve --json` or `shaft --json` output (.json) or from a load map "
@@ -146,7 +148,7 @@ def build_parser() -> argparse.ArgumentParser:
                             "(ROSS: SI, N/m). csv/json/npz take every case of a file; dmig and ross take one "
                             "(--case, the flat case index)."))
     ex.add_argument("source", metavar="SOURCE", help="a .json from solve/shaft --json, or a .h5 map or table")
-    ex.add_argument("--format", required=True, choices=["csv", "json", "npz", "dmig", "ross"], help="output format")
+    ex.add_argument("--format", required=True, choices=EXPORT_FORMATS, help="output format")
     ex.add_argument("-o", "--output", required=True, metavar="OUT", help="output file")
     ex.add_argument("--case", type=int, default=None, metavar="N", help="flat case index in a .h5 source")
     ex.add_argument("--grid", type=int, default=1, metavar="ID", help="DMIG: grid of the inner ring (default 1)")
@@ -271,9 +273,9 @@ def _add_plot_parsers(sub) -> None:
     ps = kinds.add_parser("passage", help="Kb entries over one ball-pass period of a passage table")
     common(ps)
     ps.add_argument("--var", default="kxx,kzz,ktyty", help="comma-separated entries (default kxx,kzz,ktyty)")
-    ps.add_argument("--x", choices=["angle", "period", "time"], default="angle",
+    ps.add_argument("--x", choices=PASSAGE_X, default="angle",
                     help="cage angle (rad), fraction of the period, or time (s; needs a shaft speed)")
-    ps.add_argument("--normalise", choices=["none", "first", "mean"], default="none",
+    ps.add_argument("--normalise", choices=NORMALISE, default="none",
                     help="divide by the value at position 0 (the paper's Fig. 13) or by the mean (default none)")
     sp = kinds.add_parser("spectrum", help="harmonic amplitudes of Kb entries of a passage table")
     common(sp)
@@ -286,7 +288,7 @@ def _add_plot_parsers(sub) -> None:
     which = z.add_mutually_exclusive_group(required=True)
     which.add_argument("--preset", choices=preset_names(), help="a shipped bearing (with --arrangement)")
     which.add_argument("--bearing", metavar="FILE.toml", help="a bearing file with a [bearing] table")
-    z.add_argument("--arrangement", choices=["single", "DB", "DF", "DT"], help="arrangement for --preset")
+    z.add_argument("--arrangement", choices=ARRANGEMENTS, help="arrangement for --preset")
     given = z.add_mutually_exclusive_group(required=True)
     given.add_argument("--load", metavar="Fx,Fy,Fz,Mx,My", help="load: N, N, N, N*mm, N*mm (solved for q)")
     given.add_argument("--displacement", metavar="dx,dy,dz,bx,by", help="displacement: mm, mm, mm, rad, rad")

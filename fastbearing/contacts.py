@@ -14,7 +14,7 @@ from dataclasses import dataclass, fields
 import numpy as np
 
 from .api import ball_loads
-from .bearing import Bearing
+from .bearing import COS_PSI, EXPONENT, KN, ROW, SIN_PSI, Bearing
 from .geometry import HertzContact
 
 
@@ -102,18 +102,12 @@ def ball_contacts(bearing: Bearing, q) -> BallContacts:
     BallContacts
     """
     Q, alpha = ball_loads(bearing, q)
-    rows, balls, psi, kn, n = [], [], [], [], []
-    for i, r in enumerate(bearing.rows):
-        j = np.arange(r.n_balls)
-        rows.append(np.full(r.n_balls, i))
-        balls.append(j)
-        psi.append(np.mod(math.radians(r.first_ball_angle) + 2.0 * math.pi * j / r.n_balls, 2.0 * math.pi))
-        kn.append(np.full(r.n_balls, r.hertz_constant))
-        n.append(np.full(r.n_balls, r.exponent))
-    kn, n = np.concatenate(kn), np.concatenate(n)
-    delta = (np.maximum(Q, 0.0) / kn) ** (1.0 / n)
-    base = dict(row=np.concatenate(rows), ball=np.concatenate(balls), azimuth=np.concatenate(psi),
-                deflection=delta, load=Q, contact_angle=alpha)
+    table = bearing.ball_table()                 # what the kernel read: one column per ball
+    row = table[ROW].astype(np.int64)
+    ball = np.concatenate([np.arange(r.n_balls) for r in bearing.rows])
+    azimuth = np.mod(np.arctan2(table[SIN_PSI], table[COS_PSI]), 2.0 * math.pi)
+    delta = (np.maximum(Q, 0.0) / table[KN]) ** (1.0 / table[EXPONENT])
+    base = dict(row=row, ball=ball, azimuth=azimuth, deflection=delta, load=Q, contact_angle=alpha)
     geometry = getattr(bearing, "geometry", None)
     if geometry is None:
         return BallContacts(**base)

@@ -11,6 +11,12 @@ import pytest
 sys.path.insert(0, str(Path(__file__).parent))
 
 import fastbearing as fb  # noqa: E402
+from hypothesis import settings  # noqa: E402
+
+# Property tests draw the same examples on every run and machine: a CI result can be reproduced, and a
+# failure is a property of the code, not of the day's random seed.
+settings.register_profile("fastbearing", derandomize=True, database=None)
+settings.load_profile("fastbearing")
 
 PAPER_LOADS = {"table3": (1000.0, 0.0, 0.0, 0.0, -74000.0), "table4": (1000.0, 0.0, 3000.0, 0.0, -74000.0)}
 
@@ -61,3 +67,31 @@ def _run_in_a_temporary_folder(tmp_path, monkeypatch):
 @pytest.fixture
 def rng():
     return np.random.default_rng(20131122)
+
+
+class CliResult:
+    """What a command-line run gave: exit code, stdout and stderr (like subprocess.CompletedProcess)."""
+
+    def __init__(self, returncode: int, stdout: str, stderr: str):
+        self.returncode, self.stdout, self.stderr = returncode, stdout, stderr
+
+
+def cli_run(*args, cwd=None) -> CliResult:
+    """``fastbearing ARGS`` in this process through ``cli.main`` (a subprocess costs ~1 s of start-up;
+    a few smoke tests still run the real thing). An exception escaping main is a traceback: it fails."""
+    import contextlib
+    import io
+
+    from fastbearing import cli
+
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.ExitStack() as stack:
+        if cwd is not None:
+            stack.enter_context(contextlib.chdir(cwd))
+        stack.enter_context(contextlib.redirect_stdout(out))
+        stack.enter_context(contextlib.redirect_stderr(err))
+        try:
+            code = cli.main([str(a) for a in args])
+        except SystemExit as exc:  # argparse: --help (0) and usage errors (2)
+            code = exc.code if isinstance(exc.code, int) else 1
+    return CliResult(code, out.getvalue(), err.getvalue())

@@ -1,4 +1,5 @@
-"""The command line as a user runs it: real subprocesses, JSON on stdout, exit codes."""
+"""The command line as a user runs it: JSON on stdout, exit codes, one-line errors. Most commands run
+in process (conftest.cli_run); the first test and the refused-run tests are real subprocesses."""
 
 import json
 import subprocess
@@ -7,17 +8,19 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import cli_run
 
 ROOT = Path(__file__).resolve().parents[1]
 CLI = [sys.executable, "-m", "fastbearing.cli"]
 
 
 def run(*args):
-    return subprocess.run([*CLI, *args], capture_output=True, text=True, timeout=120)
+    return cli_run(*args)
 
 
 def test_solve_json_matches_paper_table3_tandem():
-    p = run("solve", "--preset", "gunduz2013", "--arrangement", "DT", "--load", "1000,0,0,0,-74000", "--json")
+    p = subprocess.run([*CLI, "solve", "--preset", "gunduz2013", "--arrangement", "DT", "--load", "1000,0,0,0,-74000", "--json"],
+                       capture_output=True, text=True, timeout=120)
     assert p.returncode == 0, p.stderr
     out = json.loads(p.stdout)
     assert set(out) == {"q", "f", "K", "status", "converged", "iterations", "residual"}

@@ -132,6 +132,7 @@ def test_cli_dask_flag(tmp_path):
                        capture_output=True, text=True, timeout=300, cwd=tmp_path)
     assert p.returncode == 0, p.stderr
     assert fb.open_dataset(tmp_path / "m.h5").attrs["engine"] == "dask"
-    bad = subprocess.run([sys.executable, "-m", "fastbearing.cli", "loadmap", str(cfg), "--dask", "local:0",
-                          "--overwrite"], capture_output=True, text=True, timeout=300, cwd=tmp_path)
+    from conftest import cli_run
+
+    bad = cli_run("loadmap", cfg, "--dask", "local:0", "--overwrite")
     assert bad.returncode == 2 and "worker count N >= 1" in bad.stderr

@@ -74,12 +74,7 @@ def test_never_overwrites_and_rejects_bad_input(tmp_path):
 
 
 def test_export_cli_from_solve_json_and_from_a_map(tmp_path):
-    import subprocess
-    import sys
-
-    def cli(*args):
-        return subprocess.run([sys.executable, "-m", "fastbearing.cli", *args], capture_output=True, text=True,
-                              timeout=120)
+    from conftest import cli_run as cli
 
     p = cli("solve", "--preset", "gunduz2013", "--arrangement", "DT", "--load", "1000,0,3000,0,-74000", "--json")
     (tmp_path / "r.json").write_text(p.stdout)

@@ -6,8 +6,6 @@ import importlib
 import json
 import math
 import re
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -23,7 +21,6 @@ ps = importlib.import_module("fastbearing.passage")
 
 ROOT = Path(__file__).resolve().parents[1]
 BEARINGS = ROOT / "data" / "bearings"
-CLI = [sys.executable, "-m", "fastbearing.cli"]
 
 STEEL_210 = fb.Material("steel", 210000.0, 0.3)
 E_STAR = 210000.0 / (2 * (1 - 0.3 ** 2))          # 1/E* = (1-nu1^2)/E1 + (1-nu2^2)/E2
@@ -403,7 +400,9 @@ def test_ball_contacts_without_geometry_have_no_stresses():
 
 # -- command line ---------------------------------------------------------------------------
 def run(*args):
-    return subprocess.run([*CLI, *args], capture_output=True, text=True, timeout=120, cwd=ROOT)
+    from conftest import cli_run
+
+    return cli_run(*args, cwd=ROOT)
 
 
 def test_cli_bearing_prints_derived_parameters_with_units():

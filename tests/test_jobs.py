@@ -10,6 +10,7 @@ import time
 import h5py
 import numpy as np
 import pytest
+from conftest import cli_run
 
 import importlib
 
@@ -90,8 +91,7 @@ def test_passage_cli_resume_and_summary(tmp_path):
     job = passage_module.job(passage_module.read_config(cfg))
     with pytest.raises(KeyboardInterrupt):
         jobs.run(interrupted_after(job, 2), tmp_path / "t.h5", progress=False)
-    p = subprocess.run([sys.executable, "-m", "fastbearing.cli", "passage", str(cfg), "-o", str(tmp_path / "t.h5"),
-                        "--resume", "--csv"], capture_output=True, text=True, timeout=300, cwd=tmp_path)
+    p = cli_run("passage", cfg, "-o", tmp_path / "t.h5", "--resume", "--csv")
     assert p.returncode == 0, p.stderr
     assert "9 points x 16 positions, 100.00 % converged" in p.stderr
     assert len(list(tmp_path.glob("t_point*.csv"))) == 9
@@ -162,7 +162,6 @@ def test_job_options_are_checked_before_anything_starts(tmp_path, command, args,
     cfg = tmp_path / "c.toml"
     table = "loadmap" if command == "loadmap" else "passage"
     cfg.write_text(f'[bearing]\npreset = "gunduz2013"\n\n[{table}]\nFx = [100.0, 200.0]\n')
-    p = subprocess.run([sys.executable, "-m", "fastbearing.cli", command, str(cfg), *args],
-                       capture_output=True, text=True, timeout=120, cwd=tmp_path)
+    p = cli_run(command, cfg, *args)
     assert p.returncode == 2 and words in p.stderr and "Traceback" not in p.stderr, p.stderr
     assert sorted(x.name for x in tmp_path.iterdir()) == ["c.toml"]

@@ -3,12 +3,11 @@ synthesis, staggered rows, load control, files."""
 
 import csv
 import math
-import subprocess
-import sys
 
 import h5py
 import numpy as np
 import pytest
+from conftest import cli_run
 
 import fastbearing as fb
 from fastbearing.passage import fourier, read_config
@@ -163,8 +162,7 @@ def test_time_axis_csv_and_cli(tmp_path):
     cfg.write_text('[bearing]\npreset = "gunduz2013"\narrangement = "DB"\n\n[passage]\n'
                    "points = [[0.05, 0.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.02, 0.0, 0.0]]\npositions = 8\n"
                    "shaft_speed = 3000.0\nball_diameter = 12.0\npitch_diameter = 70.0\n")
-    p = subprocess.run([sys.executable, "-m", "fastbearing.cli", "passage", str(cfg), "--csv"],
-                       capture_output=True, text=True, timeout=300)
+    p = cli_run("passage", cfg, "--csv")
     assert p.returncode == 0, p.stderr
     ds = fb.open_dataset(tmp_path / "t.h5")
     fc = 3000 / 60 / 2 * (1 - 12 * math.cos(math.radians(30)) / 70)
@@ -176,8 +174,7 @@ def test_time_axis_csv_and_cli(tmp_path):
     assert rows[0][:4] == ["position", "cage_angle_rad", "time_s", "kxx_N/mm"] and len(rows) == 9
     assert len(rows[0]) == 3 + 15 and "ktyty_N*mm/rad" in rows[0]
     assert float(rows[3][rows[0].index("kzz_N/mm")]) == ds["K"].values[1, 2, 2, 2]
-    again = subprocess.run([sys.executable, "-m", "fastbearing.cli", "passage", str(cfg), "--csv"],
-                           capture_output=True, text=True, timeout=300)
+    again = cli_run("passage", cfg, "--csv")
     assert again.returncode == 2 and "exists" in again.stderr
 
 

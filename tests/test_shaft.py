@@ -159,19 +159,17 @@ def test_shaft_config_with_files_and_inline_bearings(tmp_path):
 
 def test_shaft_cli_json_on_the_shipped_example():
     import json
-    import subprocess
-    import sys
     from pathlib import Path
 
+    from conftest import cli_run
+
     example = Path(__file__).resolve().parents[1] / "data" / "examples" / "fig2-two-single-rows.toml"
-    p = subprocess.run([sys.executable, "-m", "fastbearing.cli", "shaft", str(example), "--json"],
-                       capture_output=True, text=True, timeout=120)
+    p = cli_run("shaft", example, "--json")
     assert p.returncode == 0, p.stderr
     out = json.loads(p.stdout)
     double = fb.solve(fb.Bearing.preset("gunduz2013", "DB"), [1000.0, 0.0, 3000.0, 0.0, -74000.0])
     np.testing.assert_allclose(out["K_system"], double.K, rtol=1e-12, atol=1e-9 * np.abs(double.K).max())
     assert [b["position"] for b in out["bearings"]] == [64.0, 84.0]
     assert len(out["frequencies_hz"]) == 5 and len(out["frequencies_diagonal_only_hz"]) == 5
-    bad = subprocess.run([sys.executable, "-m", "fastbearing.cli", "shaft", "missing.toml"], capture_output=True,
-                         text=True, timeout=120)
+    bad = cli_run("shaft", "missing.toml")
     assert bad.returncode == 2 and "file not found" in bad.stderr
