@@ -69,6 +69,22 @@ def rng():
     return np.random.default_rng(20131122)
 
 
+def interrupted_after(job, n_blocks):
+    """The same job (jobs.Job), but Ctrl-C arrives while block ``n_blocks`` (0-based) computes:
+    a deterministic interruption, no timing involved."""
+    import dataclasses
+
+    calls = []
+
+    def compute(inputs, res):
+        if len(calls) == n_blocks:
+            raise KeyboardInterrupt
+        calls.append(1)
+        job.compute(inputs, res)
+
+    return dataclasses.replace(job, compute=compute)
+
+
 class CliResult:
     """What a command-line run gave: exit code, stdout and stderr (like subprocess.CompletedProcess)."""
 

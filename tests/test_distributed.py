@@ -1,7 +1,6 @@
 """Jobs on a Dask LocalCluster: load maps and passage tables identical to a local run bit for bit, also
 when a worker is killed mid-run, and resumable."""
 
-import dataclasses
 import importlib
 import os
 import signal
@@ -86,26 +85,16 @@ def test_killed_worker_blocks_are_recomputed(client, tmp_path):
     client.wait_for_workers(2, timeout=60)  # the nanny restarts the killed worker
 
 
-def _interrupted_after(job, n_blocks):
-    calls = []
-
-    def compute(inputs, res):
-        if len(calls) == n_blocks:
-            raise KeyboardInterrupt
-        calls.append(1)
-        job.compute(inputs, res)
-
-    return dataclasses.replace(job, compute=compute)
-
-
 def test_resume_through_dask(client, local_map, tmp_path):
     """A local run interrupted after 3 blocks, resumed on the cluster: still identical."""
+    from conftest import interrupted_after
+
     from fastbearing import jobs
 
     module = importlib.import_module("fastbearing.loadmap")
     out = tmp_path / "resumed.h5"
     with pytest.raises(KeyboardInterrupt):
-        jobs.run(_interrupted_after(module.job(module.read_config(CONFIG)), 3), out, progress=False)
+        jobs.run(interrupted_after(module.job(module.read_config(CONFIG)), 3), out, progress=False)
     fb.loadmap(CONFIG, out, progress=False, client=client, resume=True)
     assert_identical(out, local_map)
 

@@ -1,7 +1,6 @@
 """The one job runner: load maps and ball-passage tables get the same resume, Ctrl-C, progress,
 summary and checks, because they run through the same code (jobs.py)."""
 
-import dataclasses
 import signal
 import subprocess
 import sys
@@ -10,7 +9,7 @@ import time
 import h5py
 import numpy as np
 import pytest
-from conftest import cli_run
+from conftest import cli_run, interrupted_after
 
 import importlib
 
@@ -40,20 +39,6 @@ def assert_identical(a, b):
     assert set(da) == set(db)
     for name in da:
         np.testing.assert_array_equal(da[name], db[name], err_msg=name)
-
-
-def interrupted_after(job, n_blocks):
-    """The same job, but Ctrl-C arrives while block ``n_blocks`` (0-based) computes: deterministic,
-    no timing involved."""
-    calls = []
-
-    def compute(inputs, res):
-        if len(calls) == n_blocks:
-            raise KeyboardInterrupt
-        calls.append(1)
-        job.compute(inputs, res)
-
-    return dataclasses.replace(job, compute=compute)
 
 
 @pytest.mark.parametrize("kind", sorted(KINDS))
