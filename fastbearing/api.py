@@ -75,9 +75,20 @@ def _check_bearing(bearing) -> Bearing:
 
 
 def as_cases(values, name: str, units: str) -> np.ndarray:
-    """(N, 5) float64 C-contiguous copy of ``values``; ValueError names the field."""
+    """(N, 5) float64 C-contiguous copy of ``values``; ValueError names the field.
+
+    Numbers only, as everywhere in fastbearing: strings (even numeric ones), booleans and complex
+    values are refused, not converted."""
     try:
-        arr = np.array(values, dtype=np.float64, order="C", ndmin=2)
+        raw = np.asarray(values)
+        if raw.dtype.kind == "O" or not isinstance(values, np.ndarray):
+            # a list may mix types that numpy would coerce (True -> 1, "12" -> 12.0): look at each item
+            items = np.asarray(values, dtype=object).ravel()
+            if any(isinstance(x, (bool, np.bool_, str, bytes, complex, np.complexfloating)) for x in items):
+                raise TypeError
+        if raw.dtype.kind not in "iufO":
+            raise TypeError
+        arr = np.array(raw, dtype=np.float64, order="C", ndmin=2)
     except (TypeError, ValueError):
         raise ValueError(f"{name} must be numbers ({units}), got {values!r}") from None
     if arr.ndim != 2 or arr.shape[1] != 5:

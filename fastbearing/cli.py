@@ -607,5 +607,19 @@ def main(argv=None) -> int:
         return EXIT_USAGE
 
 
+def entry_point() -> int:
+    """main(), quiet when a reader closes the pipe early (``fastbearing solve ... | head -3``)."""
+    import os
+
+    try:
+        code = main()
+        sys.stdout.flush()
+        return code
+    except BrokenPipeError:
+        # the reader is gone: nothing more to say to it, and no traceback at interpreter exit
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 141
+
+
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(entry_point())

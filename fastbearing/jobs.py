@@ -199,13 +199,25 @@ def run(job: Job, output: Path, *, threads=None, resume=False, overwrite=False, 
     storage.check_output_path(output)
     if not (resume and storage.part_path(output).exists()):
         storage.check_disk_space(output, job.bytes_needed(), f"this {job.kind} ({job.cases.n_cases} {job.case_word}s)")
-    out, part, resuming = storage.prepare_output(output, job.fingerprint, resume, overwrite)
-    if resume and not part.exists():
-        print(f"fastbearing: {out} is already complete; nothing to resume", file=sys.stderr)
-        return out.absolute()
-    blocks = plan_blocks(job.cases.shape, job.line_length, job.chunk)
-    if not resuming:
-        _create(job, part, blocks)
+    with storage.RunLock(output):
+        out, part, resuming = storage.prepare_output(output, job.fingerprint, resume, overwrite)
+        if resume and not part.exists():
+            print(f"fastbearing: {out} is already complete; nothing to resume", file=sys.stderr)
+            return out.absolute()
+        blocks = plan_blocks(job.cases.shape, job.line_length, job.chunk)
+        if resuming and storage.is_complete(part):
+            # killed while finishing: every block is there, only the finishing step is repeated
+            storage.finish(part, out, job.compression, blocks, {}, [v.name for v in job.variables])
+            print(f"fastbearing: finished {out} (all blocks were already computed)", file=sys.stderr)
+            return out.absolute()
+        if not resuming:
+            _create(job, part, blocks)
+        _compute(job, part, out, blocks, threads, progress, client, max_in_flight)
+    return out.absolute()
+
+
+def _compute(job: Job, part: Path, out: Path, blocks, threads, progress, client, max_in_flight) -> None:
+    """Compute the blocks not yet done into ``part``, then finish it as ``out``."""
     pf = storage.PartFile(part)
     started = time.perf_counter()
     done = pf.done_mask()
@@ -244,7 +256,6 @@ def run(job: Job, output: Path, *, threads=None, resume=False, overwrite=False, 
                    "status_counts": json.dumps({st.describe(c): k for c, k in counts.items()})},
                    [v.name for v in job.variables])
     print(_summary(job, counts, wall, computed), file=sys.stderr)
-    return out.absolute()
 
 
 def _run_here(job: Job, pending, writer, interrupt) -> None:

@@ -160,9 +160,22 @@ def prepare_output(out: Path, fingerprint: str, resume: bool, overwrite: bool) -
         part.unlink()
     elif resume and not out.exists():
         raise ValueError(f"nothing to resume: {part} does not exist")
+    elif resume:
+        if _fingerprint(out) != fingerprint:
+            raise ValueError(f"{out} is complete but was made from a different config (or case file); "
+                             "--resume continues only the same config: choose another -o, or --overwrite")
     if out.exists() and not overwrite and not resume:
         raise ValueError(f"{out} exists; pass --overwrite to replace it")
     return out, part, False
+
+
+def _fingerprint(path: Path) -> str | None:
+    try:
+        with h5py.File(path, "r") as fh:
+            value = fh.attrs.get("config_fingerprint")
+    except OSError:
+        return None
+    return value.decode() if isinstance(value, bytes) else value
 
 
 def part_path(path: Path) -> Path:
@@ -318,7 +331,11 @@ def _slab_shape(shape: tuple[int, ...], slab: tuple) -> tuple[int, ...]:
 
 
 def finish(part: Path, final: Path, compression: str, blocks, attrs: dict, variables: list[str]) -> None:
-    """Mark ``part`` complete and move it to ``final`` (repacked with compression if asked)."""
+    """Mark ``part`` complete and move it to ``final`` (repacked with compression if asked).
+
+    Every step can be repeated: a run killed anywhere in here leaves a
+    complete ``.part`` (or the final file), and ``resume`` calls this again.
+    """
     with h5py.File(part, "r+") as fh:
         for k, val in attrs.items():
             fh.attrs[k] = val
@@ -336,8 +353,9 @@ def finish(part: Path, final: Path, compression: str, blocks, attrs: dict, varia
 
 def _drop_bookkeeping(path: Path) -> None:
     with h5py.File(path, "r+") as fh:
-        del fh["block_done"]
-        del fh["block"]
+        for name in ("block_done", "block"):    # a finish killed half-way may have dropped them already
+            if name in fh:
+                del fh[name]
 
 
 _SCALE_ATTRS = ("DIMENSION_LIST", "REFERENCE_LIST", "CLASS", "NAME", "_Netcdf4Dimid", "_Netcdf4Coordinates")
@@ -371,6 +389,56 @@ def _repack(src: Path, dst: Path, compression: str, blocks, big: list[str]) -> N
         for name in big:
             for b in blocks:
                 fo[name][b.slab] = fi[name][b.slab]
+
+
+class RunLock:
+    """``OUT.h5.lock``, created with O_EXCL and holding the pid: one run per output at a time, whatever
+    HDF5's own file locking does (it is often off on NFS and Lustre). A lock left by a run that no
+    longer exists (killed) is taken over."""
+
+    def __init__(self, output: Path):
+        self.path = output.with_name(output.name + ".lock")
+        self._held = False
+
+    def __enter__(self):
+        for _ in range(2):
+            try:
+                fd = os.open(self.path, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o644)
+            except FileExistsError:
+                pid = self._owner()
+                if pid is not None and _alive(pid):
+                    raise ValueError(f"another run (pid {pid}) is writing {self.path.with_suffix('')}; wait for "
+                                     f"it or stop it (if it is gone, delete {self.path})") from None
+                self.path.unlink(missing_ok=True)        # its run is gone: a stale lock
+                continue
+            with os.fdopen(fd, "w") as fh:
+                fh.write(str(os.getpid()))
+            self._held = True
+            return self
+        raise ValueError(f"cannot take the lock {self.path}; delete it if no run is writing this output")
+
+    def _owner(self) -> int | None:
+        try:
+            return int(self.path.read_text().strip() or "x")
+        except (OSError, ValueError):
+            return None
+
+    def __exit__(self, *exc):
+        if self._held:
+            self.path.unlink(missing_ok=True)
+            self._held = False
+
+
+def _alive(pid: int) -> bool:
+    if pid == os.getpid():
+        return True
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True
 
 
 def is_complete(path: Path) -> bool:

@@ -95,3 +95,12 @@ def test_absurd_grid_is_refused_with_what_it_would_need(tmp_path):
     p = run("loadmap", str(tmp_path / "map.toml"), "-o", str(tmp_path / "out.h5"))
     assert p.returncode == 2 and "Traceback" not in p.stderr and "cases" in p.stderr
     assert not list(tmp_path.glob("out.h5*"))
+
+
+def test_a_reader_closing_the_pipe_is_not_a_traceback():
+    """``fastbearing solve ... | head -3``: exit 141 (as a shell reports SIGPIPE), nothing on stderr."""
+    code = ("import sys, fastbearing.cli as c\n"
+            "def main():\n    raise BrokenPipeError\n"
+            "c.main = main\nsys.exit(c.entry_point())")
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert p.returncode == 141 and p.stderr == ""

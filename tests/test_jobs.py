@@ -150,3 +150,53 @@ def test_job_options_are_checked_before_anything_starts(tmp_path, command, args,
     p = cli_run(command, cfg, *args)
     assert p.returncode == 2 and words in p.stderr and "Traceback" not in p.stderr, p.stderr
     assert sorted(x.name for x in tmp_path.iterdir()) == ["c.toml"]
+
+
+# -- finishing, locking, resuming the wrong thing (issue 18) ------------------------------------------
+
+def test_resume_of_a_complete_file_with_another_config_is_refused(tmp_path):
+    fb.loadmap(MAP, tmp_path / "m.h5", progress=False)
+    changed = {"bearing": BEARING, "loadmap": {**MAP["loadmap"], "Fz": 700.0}}
+    with pytest.raises(ValueError, match="complete but was made from a different config"):
+        fb.loadmap(changed, tmp_path / "m.h5", resume=True, progress=False)
+    fb.loadmap(MAP, tmp_path / "m.h5", resume=True, progress=False)          # the same config: nothing to do
+
+
+@pytest.mark.parametrize("compression", ["none", "lzf"])
+def test_a_run_killed_while_finishing_is_completed_by_resume(tmp_path, monkeypatch, compression):
+    """Every block computed, then killed inside finish (after the file was marked complete, before the
+    rename or half-way through the repack): --resume completes it, nothing recomputed or lost."""
+    from fastbearing import storage
+
+    config = {"bearing": BEARING, "loadmap": {**MAP["loadmap"], "compression": compression}}
+    reference = fb.loadmap(config, tmp_path / "ref.h5", progress=False)
+    real_replace = storage.os.replace
+
+    def killed(src, dst):
+        raise KeyboardInterrupt                   # as if the process died here
+
+    monkeypatch.setattr(storage.os, "replace", killed)
+    with pytest.raises(KeyboardInterrupt):
+        fb.loadmap(config, tmp_path / "m.h5", progress=False)
+    monkeypatch.setattr(storage.os, "replace", real_replace)
+    part = tmp_path / "m.h5.part"
+    assert part.exists() and storage.is_complete(part) and not (tmp_path / "m.h5").exists()
+    with pytest.raises(ValueError, match="an unfinished run exists"):
+        fb.loadmap(config, tmp_path / "m.h5", progress=False)
+    fb.loadmap(config, tmp_path / "m.h5", resume=True, progress=False)
+    assert_identical(tmp_path / "m.h5", reference)
+    assert not part.exists() and not list(tmp_path.glob("*.packing"))
+
+
+def test_a_live_run_holds_the_output_and_a_dead_ones_lock_is_taken_over(tmp_path):
+    import os
+
+    lock = tmp_path / "m.h5.lock"
+    lock.write_text(str(os.getpid()))                        # a live process holds it
+    with pytest.raises(ValueError, match=rf"another run \(pid {os.getpid()}\) is writing"):
+        fb.loadmap(MAP, tmp_path / "m.h5", progress=False)
+    assert not (tmp_path / "m.h5.part").exists()
+    gone = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"], capture_output=True, text=True)
+    lock.write_text(gone.stdout.strip())                      # that process has exited: a stale lock
+    fb.loadmap(MAP, tmp_path / "m.h5", progress=False)
+    assert (tmp_path / "m.h5").exists() and not lock.exists()

@@ -232,3 +232,10 @@ def test_energy_fallback_converges_on_its_own(arrangement, extra):
                                          work[_D], work)
     assert status == st.CONVERGED
     np.testing.assert_allclose(q, fb.solve(bearing, load).q, rtol=1e-8, atol=1e-12)
+
+
+@pytest.mark.parametrize("load", [["1000", 0, 0, 0, 0], [True, 0, 0, 0, 0], [1000 + 1j, 0, 0, 0, 0]])
+def test_loads_are_numbers_not_strings_booleans_or_complex(load):
+    """One rule everywhere: numbers only; a numeric string is refused, not converted."""
+    with pytest.raises(ValueError, match="f must be numbers"):
+        fb.solve(fb.Bearing.preset("gunduz2013", "DB"), load)
