@@ -6,6 +6,7 @@ Bad input gives a one-line error on stderr and exit code 2, never a traceback.
 from __future__ import annotations
 
 import argparse
+import errno
 import json
 import math
 import sys
@@ -18,6 +19,7 @@ from .bearing_file import load_bearing, preset_bearing
 from .contacts import ball_contacts
 from .dofs import DISPLACEMENT_NAMES, LOAD_NAMES
 from .export import FORMATS as EXPORT_FORMATS
+from .files import DiskFull
 from .geometry import load_centre_spread
 from .plot import NORMALISE, PASSAGE_X
 
@@ -601,6 +603,16 @@ def main(argv=None) -> int:
         args = parser.parse_args(argv)
         return {"solve": _solve, "bearing": _bearing_command, "loadmap": _loadmap,
                 "passage": _passage, "plot": _plot, "paper": _paper, "shaft": _shaft, "export": _export}[args.command](args)
+    except DiskFull as err:
+        print(str(err), file=sys.stderr)
+        return 1
+    except OSError as err:
+        if err.errno != errno.ENOSPC:
+            raise
+        # export, plots, CSV: written under a temporary name, so nothing half-written is left
+        print(f"fastbearing: the disk is full ({err.filename or 'output'}): nothing was written; free some space "
+              "and run again", file=sys.stderr)
+        return 1
     except (_UsageError, ValueError) as err:
         print(f"fastbearing: error: {err}" if not str(err).startswith("fastbearing") else str(err),
               file=sys.stderr)

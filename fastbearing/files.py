@@ -11,6 +11,10 @@ from pathlib import Path
 from typing import Callable
 
 
+class DiskFull(RuntimeError):
+    """The output's file system filled up during a run; what was finished is kept (see the message)."""
+
+
 def publish(path: Path, write: Callable[[Path], object]) -> Path:
     """Run ``write(tmp)`` on a temporary name beside ``path``, then rename it onto ``path``.
 

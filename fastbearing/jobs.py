@@ -19,6 +19,7 @@ Units: N, mm, rad throughout (see dofs.py).
 
 from __future__ import annotations
 
+import errno
 import json
 import signal
 import sys
@@ -34,11 +35,19 @@ from . import status as st, storage, validate
 from .api import check_threads, num_threads
 from .bearing import Bearing
 from .dofs import AXES, DOF_LABELS, LONG_NAMES, UNITS, UNITS_CONVENTION
+from .files import DiskFull
 from .grid import CaseSet, plan_blocks
 from .solver import SolverSettings
 
 #: Most blocks a Dask run may have out on the cluster at once.
 MAX_IN_FLIGHT = 10_000
+
+
+def _disk_full(err: BaseException) -> bool:
+    """ENOSPC, however it arrives (h5py raises OSError or RuntimeError with HDF5's text)."""
+    text = str(err)
+    return isinstance(err, (OSError, RuntimeError)) and (getattr(err, "errno", None) == errno.ENOSPC
+                                                         or "No space left" in text or "errno = 28" in text)
 
 
 @dataclass(frozen=True)
@@ -245,17 +254,50 @@ def _compute(job: Job, part: Path, out: Path, blocks, threads, progress, client,
         print(f"\nfastbearing: interrupted; finished blocks are kept in {part}; continue with --resume",
               file=sys.stderr)
         raise
-    except BaseException:
-        pf.close()
+    except BaseException as err:
+        _close_quietly(pf)
+        if _disk_full(err):
+            raise _full(part, job) from None
         raise
     computed = sum(b.size for b in pending)
     counts = _status_counts(pf)
     pf.close()
     wall = time.perf_counter() - started
-    storage.finish(part, out, job.compression, blocks, {"wall_time_s": wall,
-                   "status_counts": json.dumps({st.describe(c): k for c, k in counts.items()})},
-                   [v.name for v in job.variables])
+    try:
+        storage.finish(part, out, job.compression, blocks, {"wall_time_s": wall,
+                       "status_counts": json.dumps({st.describe(c): k for c, k in counts.items()})},
+                       [v.name for v in job.variables])
+    except (OSError, RuntimeError) as err:
+        if _disk_full(err):
+            out.with_name(out.name + ".packing").unlink(missing_ok=True)
+            raise _full(part, job, "while finishing") from None
+        raise
     print(_summary(job, counts, wall, computed), file=sys.stderr)
+
+
+def _close_quietly(pf: storage.PartFile) -> None:
+    try:
+        pf.close()
+    except OSError:  # closing flushes, and a full disk refuses that too; the blocks marked done are safe
+        pass
+
+
+def _full(part: Path, job: Job, when: str = "") -> DiskFull:
+    import shutil
+
+    import h5py
+
+    done = 0
+    try:
+        with h5py.File(part, "r") as fh:
+            done = int(fh["block_done"][...].sum())
+    except Exception:  # noqa: BLE001 - the message must come out whatever the file's state
+        pass
+    need = storage._size(job.bytes_needed())
+    free = storage._size(shutil.disk_usage(part.parent).free)
+    return DiskFull(f"fastbearing: the disk is full{' ' + when if when else ''}: {done} finished blocks are "
+                    f"kept in {part}; the whole {job.kind} needs about {need} ({free} free now); free some space "
+                    "and continue with --resume")
 
 
 def _run_here(job: Job, pending, writer, interrupt) -> None:

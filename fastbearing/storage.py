@@ -16,6 +16,7 @@ asked), so a file under the final name is always complete.
 
 from __future__ import annotations
 
+import errno
 import os
 import queue
 import threading
@@ -346,6 +347,12 @@ def finish(part: Path, final: Path, compression: str, blocks, attrs: dict, varia
         os.replace(part, final)
         return
     packed = final.with_name(final.name + ".packing")
+    # the compressed copy is at most as large as the data: refuse before HDF5 meets a full disk, which it
+    # does not survive gracefully (errors from object destructors, or worse)
+    import shutil
+
+    if shutil.disk_usage(final.parent if str(final.parent) else ".").free < os.path.getsize(part):
+        raise OSError(errno.ENOSPC, f"No space left on device to write the compressed copy of {part}")
     _repack(part, packed, compression, blocks, variables)
     os.replace(packed, final)
     part.unlink()

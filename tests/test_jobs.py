@@ -200,3 +200,43 @@ def test_a_live_run_holds_the_output_and_a_dead_ones_lock_is_taken_over(tmp_path
     lock.write_text(gone.stdout.strip())                      # that process has exited: a stale lock
     fb.loadmap(MAP, tmp_path / "m.h5", progress=False)
     assert (tmp_path / "m.h5").exists() and not lock.exists()
+
+
+@pytest.fixture
+def small_disk(tmp_path):
+    """A 2 MB file system (tmpfs), where the machine lets us mount one (root); else skipped."""
+    import shutil
+
+    mount = tmp_path / "small"
+    mount.mkdir()
+    if shutil.which("mount") is None:
+        pytest.skip("no mount command: cannot make a small file system here")
+    made = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=2m", "tmpfs", str(mount)], capture_output=True)
+    if made.returncode != 0:
+        pytest.skip(f"cannot mount a small tmpfs here ({made.stderr.decode().strip() or 'not root'})")
+    yield mount
+    subprocess.run(["umount", "-l", str(mount)], capture_output=True)
+
+
+@pytest.mark.parametrize("compression", ["none", "gzip"])
+def test_a_full_disk_is_one_line_and_keeps_the_finished_blocks(small_disk, monkeypatch, compression):
+    """The up-front space check passes (another writer fills the disk later, say: here the check is
+    switched off), then the disk fills during the block writes or the repack: one line, exit 1, the
+    finished blocks kept, no .packing left, no crash by a signal."""
+    from fastbearing import storage
+
+    monkeypatch.setattr(storage, "check_disk_space", lambda *a: None)
+    cfg = small_disk / "m.toml"
+    size = 3 if compression == "none" else 1        # 3 x 8 000 cases ~ 8 MB; 1 x 4 000 fits, gzip copy does not
+    cfg.write_text('[bearing]\npreset = "gunduz2013"\narrangement = "DB"\n\n[loadmap]\n'
+                   f"Fx = {{ start = 100.0, stop = 2000.0, num = {size} }}\n"
+                   "Fz = { start = 500.0, stop = 6000.0, num = 4000 }\nchunk = 4000\n"
+                   f'compression = "{compression}"\n')
+    if compression == "gzip":
+        (small_disk / "ballast").write_bytes(b"\0" * 600_000)   # leave room for the map but not its copy
+    p = cli_run("loadmap", cfg, "-o", small_disk / "m.h5")
+    assert p.returncode == 1, p.stderr
+    lines = p.stderr.strip().splitlines()
+    assert len(lines) == 1 and "the disk is full" in lines[0] and "--resume" in lines[0]
+    assert (small_disk / "m.h5.part").exists() and not (small_disk / "m.h5").exists()
+    assert not list(small_disk.glob("*.packing")) and not (small_disk / "m.h5.lock").exists()
