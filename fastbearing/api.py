@@ -116,10 +116,9 @@ def _bounded(name, value, default, low, high, integer=False):
     if value is None:
         return default
     kind = "an integer" if integer else "a number"
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
-        raise ValueError(f"{name} must be {kind} in [{low:g}, {high:g}], got {value!r}")
-    if not (np.isfinite(value) and low <= value <= high) or (integer and value != int(value)):
-        raise ValueError(f"{name} must be {kind} in [{low:g}, {high:g}], got {value!r}")
+    if (isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating))
+            or not (np.isfinite(value) and low <= value <= high) or (integer and value != int(value))):
+        raise validate.FieldError(name, f"must be {kind} in [{low:g}, {high:g}]", value)
     return int(value) if integer else float(value)
 
 

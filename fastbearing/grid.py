@@ -171,6 +171,9 @@ def _read_csv_cases(path: Path, where: str) -> np.ndarray:
     lines = [line for line in lines if line and not line.startswith("#")]
     if lines and not _is_numeric_row(lines[0]):
         lines = lines[1:]  # a header
+    if not lines:
+        raise ValueError(f"{where}: {path} has no lines of comma-separated numbers (5 a line: Fx,Fy,Fz,Mx,My "
+                         "or dx,dy,dz,bx,by; ';' or tabs are not separators here)")
     rows = []
     for k, line in enumerate(lines):
         cells = line.split(",")
