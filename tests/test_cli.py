@@ -104,3 +104,17 @@ def test_a_reader_closing_the_pipe_is_not_a_traceback():
             "c.main = main\nsys.exit(c.entry_point())")
     p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert p.returncode == 141 and p.stderr == ""
+
+
+def test_a_displacement_too_large_for_float64_is_refused_or_flagged(tmp_path):
+    """--displacement 1e300: f and Kb overflow. One solve refuses it (exit 2, one line); in a map the
+    case is stored with status nonfinite_result, never as converged."""
+    p = cli_run("solve", "--preset", "gunduz2013", "--arrangement", "DB", "--displacement", "1e300,0,0,0,0", "--json")
+    assert p.returncode == 2 and "overflow" in p.stderr and p.stdout == ""
+    import fastbearing as fb
+    from fastbearing import status as st
+
+    out = fb.loadmap({"bearing": {"preset": "gunduz2013", "arrangement": "DB"},
+                      "loadmap": {"given": "displacement", "dx": [0.01, 1e300]}}, tmp_path / "d.h5", progress=False)
+    status = fb.open_dataset(out)["status"].values
+    assert status.tolist() == [st.CONVERGED, st.NONFINITE_RESULT]
