@@ -111,17 +111,6 @@ def _method(method: str) -> int:
     return METHODS[validate.choice(method, "method", sorted(METHODS))]
 
 
-def _bounded(name, value, default, low, high, integer=False):
-    """A solver setting: None gives the default; otherwise a number in [low, high] (an integer if asked)."""
-    if value is None:
-        return default
-    kind = "an integer" if integer else "a number"
-    if (isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating))
-            or not (np.isfinite(value) and low <= value <= high) or (integer and value != int(value))):
-        raise validate.FieldError(name, f"must be {kind} in [{low:g}, {high:g}]", value)
-    return int(value) if integer else float(value)
-
-
 def solver_settings(bearing: Bearing, method: str = "newton", rtol=None, max_iter=None) -> SolverSettings:
     """Checked solver settings shared by :func:`solve` and the sweeps.
 
@@ -133,8 +122,10 @@ def solver_settings(bearing: Bearing, method: str = "newton", rtol=None, max_ite
     default_iter = config.MAX_ITER_NEWTON if m == NEWTON else config.MAX_ITER_BROYDEN
     return SolverSettings(
         method=m,
-        rtol=_bounded("rtol", rtol, config.RTOL, *config.RTOL_RANGE),
-        max_iter=_bounded("max_iter", max_iter, default_iter, *config.MAX_ITER_RANGE, integer=True),
+        rtol=config.RTOL if rtol is None else validate.number(rtol, "rtol", low=config.RTOL_RANGE[0],
+                                                               high=config.RTOL_RANGE[1]),
+        max_iter=default_iter if max_iter is None else validate.integer(
+            max_iter, "max_iter", low=config.MAX_ITER_RANGE[0], high=config.MAX_ITER_RANGE[1]),
         length_scale=bearing.length_scale,
         # one fast-phase step may move at most half the smallest groove-centre distance
         max_step=0.5 * min(r.groove_center_distance for r in bearing.rows),

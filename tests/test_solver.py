@@ -176,7 +176,7 @@ def test_load_too_large_for_float64_is_nonfinite_result_not_converged():
 def test_rtol_and_max_iter_are_bounded():
     bearing = fb.Bearing.preset("gunduz2013", "DB")
     for bad in (10, 0.0, -1e-8, 1e-20, "x", True, float("nan")):
-        with pytest.raises(ValueError, match=r"rtol must be a number in \[1e-14, 0.001\]"):
+        with pytest.raises(ValueError, match=r"rtol must be (a number |finite )?in \[1e-14, 0.001\]"):
             fb.solve(bearing, PAPER_LOADS["table4"], rtol=bad)
     for bad in (0, 2.5, 1e30, "60", True):
         with pytest.raises(ValueError, match=r"max_iter must be an integer in \[1, 10000\]"):
