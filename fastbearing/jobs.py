@@ -293,8 +293,8 @@ def _full(part: Path, job: Job, when: str = "") -> DiskFull:
             done = int(fh["block_done"][...].sum())
     except Exception:  # noqa: BLE001 - the message must come out whatever the file's state
         pass
-    need = storage._size(job.bytes_needed())
-    free = storage._size(shutil.disk_usage(part.parent).free)
+    need = storage.human_size(job.bytes_needed())
+    free = storage.human_size(shutil.disk_usage(part.parent).free)
     return DiskFull(f"fastbearing: the disk is full{' ' + when if when else ''}: {done} finished blocks are "
                     f"kept in {part}; the whole {job.kind} needs about {need} ({free} free now); free some space "
                     "and continue with --resume")

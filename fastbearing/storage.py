@@ -115,11 +115,12 @@ def check_disk_space(out: Path, n_bytes: int, what: str) -> None:
     folder = out.parent if str(out.parent) else Path(".")
     free = shutil.disk_usage(folder).free
     if n_bytes > free:
-        raise ValueError(f"{what} needs about {_size(n_bytes)} but {folder} has {_size(free)} free; make the grid "
+        raise ValueError(f"{what} needs about {human_size(n_bytes)} but {folder} has {human_size(free)} free; make the grid "
                          "smaller or write elsewhere (-o)")
 
 
-def _size(n: float) -> str:
+def human_size(n: float) -> str:
+    """Bytes as text in SI units: 3.45e8 -> "345 MB"."""
     for unit in ("B", "kB", "MB", "GB", "TB", "PB"):
         if n < 1000 or unit == "PB":
             return f"{n:.3g} {unit}"
