@@ -2,9 +2,13 @@
 
 - memory is bounded by one block, not by the map: peak RSS of a 200 000-case
   map against a 4 000-case one, same block size (child processes);
+- memory does not depend on the map's shape: peak RSS of a 2 000 000-case
+  line (one axis) against a 2 000 000-case 3-D grid, default chunk;
 - Ctrl-C stops a running map within about a second: time from SIGINT to the
   process's exit, with the finished blocks kept (extra_info sigint_to_exit_s;
-  the timed figure itself is the whole child process).
+  the timed figure itself is the whole child process), on an easy map in
+  small blocks and on a hard one (loads of about 1 N on a single row with
+  clearance) in the default blocks of several seconds each.
 """
 
 import json
@@ -49,6 +53,26 @@ def test_memory_is_bounded_by_the_block(benchmark, tmp_path):
                                     results_mb=200_000 * 332 / 2**20)
 
 
+def load_map(axes):
+    return {"bearing": BEARING, "loadmap": {"given": "load", **axes}}
+
+
+LINE_2M = {"Fz": {"start": 500.0, "stop": 10000.0, "num": 2_000_000}, "Fx": 300.0, "My": -2.0e4}
+GRID_2M = {"Fx": {"start": -2000.0, "stop": 2000.0, "num": 200}, "Fz": {"start": 500.0, "stop": 10000.0, "num": 100},
+           "My": {"start": -1.0e5, "stop": 1.0e5, "num": 100}}
+
+
+@pytest.mark.benchmark(group="job runner: peak RSS, 2 000 000 cases as one line vs a 200 x 100 x 100 grid")
+def test_memory_does_not_depend_on_the_shape(benchmark, tmp_path):
+    def run():
+        return (peak_rss_mb(load_map(LINE_2M), tmp_path / "line.h5"),
+                peak_rss_mb(load_map(GRID_2M), tmp_path / "grid.h5"))
+
+    line, grid = benchmark.pedantic(run, rounds=1, iterations=1)
+    if not benchmark.disabled:
+        benchmark.extra_info.update(peak_rss_line_mb=line, peak_rss_grid_mb=grid, line_over_grid=line / grid)
+
+
 KILL_MAP = ('[bearing]\npreset = "gunduz2013"\narrangement = "DB"\n\n[loadmap]\n'
             "Fx = { start = -2000.0, stop = 2000.0, num = 60 }\nFz = { start = 500.0, stop = 10000.0, num = 40 }\n"
             "My = { start = -1.0e5, stop = 1.0e5, num = 50 }\nchunk = 2000\n")
@@ -82,5 +106,35 @@ def test_ctrl_c_latency(benchmark, tmp_path):
 
     latencies = []
     benchmark.pedantic(run, rounds=3, iterations=1)      # times start-up to exit; the figure is the latency
+    if not benchmark.disabled:
+        benchmark.extra_info["sigint_to_exit_s"] = sorted(latencies)[len(latencies) // 2]
+
+
+HARD_MAP = ('[bearing]\npreset = "gunduz2013"\narrangement = "single"\nradial_clearance = 0.01\n\n[loadmap]\n'
+            "Fx = { start = -1.0, stop = 1.0, num = 40 }\nFz = { start = -1.0, stop = 1.0, num = 40 }\n"
+            "My = { start = -30.0, stop = 30.0, num = 100 }\n")
+
+
+@pytest.mark.benchmark(group="job runner: Ctrl-C to exit, hard 160 000-case map, default blocks (2-3 s each)")
+def test_ctrl_c_latency_hard_map(benchmark, tmp_path):
+    cfg = tmp_path / "h.toml"
+    cfg.write_text(HARD_MAP)
+
+    def run():
+        part = tmp_path / "h.h5.part"
+        part.unlink(missing_ok=True)
+        proc = subprocess.Popen([sys.executable, "-m", "fastbearing.cli", "loadmap", str(cfg)],
+                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=tmp_path)
+        while proc.poll() is None and not part.exists():
+            time.sleep(0.01)
+        time.sleep(1.0)                                  # inside the first block (kernels cached)
+        sent = time.perf_counter()
+        proc.send_signal(signal.SIGINT)
+        proc.communicate(timeout=60)
+        latencies.append(time.perf_counter() - sent)
+        assert proc.returncode == 130
+
+    latencies = []
+    benchmark.pedantic(run, rounds=3, iterations=1)
     if not benchmark.disabled:
         benchmark.extra_info["sigint_to_exit_s"] = sorted(latencies)[len(latencies) // 2]

@@ -19,8 +19,10 @@ from __future__ import annotations
 
 import os
 
+import numpy as np
 
-def _worker_block(compute, variables, sizes, inputs):
+
+def _worker_block(compute, variables, sizes, inputs, first):
     """Runs on a worker: one block with one numba thread; returns the result arrays."""
     import numba
 
@@ -28,7 +30,7 @@ def _worker_block(compute, variables, sizes, inputs):
 
     numba.set_num_threads(1)
     res = allocate(variables, sizes, inputs.shape[0])
-    compute(inputs, res)
+    compute(inputs, res, first, np.zeros(1, np.int64))  # Ctrl-C is the client's: it cancels the futures
     return res
 
 
@@ -58,7 +60,7 @@ def run_blocks(client, job, pending, writer, interrupt, max_in_flight=None) -> d
         if block is None:
             return None
         inputs = job.cases.inputs(block.start, block.stop)
-        future = client.submit(_worker_block, compute, variables, job.sizes, inputs, pure=False,
+        future = client.submit(_worker_block, compute, variables, job.sizes, inputs, block.start, pure=False,
                                key=f"fastbearing-block-{block.index}-{os.getpid()}")
         futures[future] = block
         return future

@@ -11,7 +11,7 @@ else, once for every kind of job:
   interrupted run of the same config, never overwriting without being told;
 - the blocks computed here (a background writer overlaps HDF5 with the next
   block) or on a Dask cluster (distributed.py), identical either way;
-- Ctrl-C between blocks (a second one stops at once), the progress bar, the
+- Ctrl-C within a case (a second one stops at once), the progress bar, the
   final status counts and summary line.
 
 Units: N, mm, rad throughout (see dofs.py).
@@ -54,9 +54,10 @@ def _disk_full(err: BaseException) -> bool:
 class Job:
     """Everything the runner needs to compute a kind of job and write it to HDF5.
 
-    ``compute(inputs, results)`` fills ``results`` (a dict of arrays, one per
-    variable, leading dim the block's cases) for the (n, 5) ``inputs`` of a
-    block; it must be picklable for Dask (a module-level function or a
+    ``compute(inputs, results, first, stop)`` fills ``results`` (a dict of
+    arrays, one per variable, leading dim the block's cases) for the (n, 5)
+    ``inputs`` of a block whose first flat case is ``first``, and returns
+    early (the block incomplete) once ``stop[0] != 0``; it must be picklable for Dask (a module-level function or a
     ``functools.partial`` of one) and its results must not depend on where
     or on how many threads it runs.
     """
@@ -66,7 +67,7 @@ class Job:
     cases: CaseSet
     variables: tuple[storage.Variable, ...]
     sizes: dict[str, int]                    # length of every non-case dim the variables use
-    compute: Callable[[np.ndarray, dict], None]
+    compute: Callable[[np.ndarray, dict, int, np.ndarray], None]
     settings: SolverSettings
     method: str
     chunk: int
@@ -74,7 +75,7 @@ class Job:
     source: Path | None
     fingerprint: str
     compression: str = "none"
-    line_length: int = 1                     # cases per continuation line (whole lines per block)
+    line_length: int = 1                     # cases per grid line (blocks cut lines only between segments)
     own_dims: tuple[storage.Coordinate, ...] = ()    # the job's own non-case dims (e.g. position, harmonic)
     aux_coords: tuple = ()                   # (Coordinate, dim name): e.g. cage_angle(position)
     attrs: dict = field(default_factory=dict)
@@ -147,11 +148,16 @@ def _create(job: Job, part: Path, blocks) -> None:
 # -- running ---------------------------------------------------------------------------------------
 
 class _Interrupt:
-    """Ctrl-C sets a flag checked between blocks; a second Ctrl-C stops at once."""
+    """Ctrl-C sets ``stop[0]``, which the running sweep reads between cases (it runs in a worker
+    thread, so this handler runs at once); a second Ctrl-C stops at once."""
 
     def __init__(self):
-        self.requested = False
+        self.stop = np.zeros(1, np.int64)
         self._old = None
+
+    @property
+    def requested(self) -> bool:
+        return bool(self.stop[0])
 
     def __enter__(self):
         if threading.current_thread() is threading.main_thread():
@@ -161,7 +167,7 @@ class _Interrupt:
     def _handle(self, signum, frame):
         if self.requested:
             raise KeyboardInterrupt
-        self.requested = True
+        self.stop[0] = 1
 
     def __exit__(self, *exc):
         if self._old is not None:
@@ -240,8 +246,7 @@ def _compute(job: Job, part: Path, out: Path, blocks, threads, progress, client,
                 # two buffer sets: one being computed, one being written
                 writer = storage.BlockWriter(pf, [Buffers(job.variables, job.sizes, size) for _ in range(2)],
                                              on_written)
-                with num_threads(threads):
-                    _run_here(job, pending, writer, interrupt)
+                _run_here(job, pending, writer, interrupt, threads)
             else:
                 from .distributed import run_blocks
 
@@ -263,6 +268,7 @@ def _compute(job: Job, part: Path, out: Path, blocks, threads, progress, client,
     counts = _status_counts(pf)
     pf.close()
     wall = time.perf_counter() - started
+    finishing = time.perf_counter()
     try:
         storage.finish(part, out, job.compression, blocks, {"wall_time_s": wall,
                        "status_counts": json.dumps({st.describe(c): k for c, k in counts.items()})},
@@ -272,7 +278,7 @@ def _compute(job: Job, part: Path, out: Path, blocks, threads, progress, client,
             out.with_name(out.name + ".packing").unlink(missing_ok=True)
             raise _full(part, job, "while finishing") from None
         raise
-    print(_summary(job, counts, wall, computed), file=sys.stderr)
+    print(_summary(job, counts, wall, computed, time.perf_counter() - finishing), file=sys.stderr)
 
 
 def _close_quietly(pf: storage.PartFile) -> None:
@@ -300,18 +306,39 @@ def _full(part: Path, job: Job, when: str = "") -> DiskFull:
                     "and continue with --resume")
 
 
-def _run_here(job: Job, pending, writer, interrupt) -> None:
-    """Compute blocks in this process, overlapping each block's HDF5 write with the next block's compute."""
+def _run_here(job: Job, pending, writer, interrupt, threads) -> None:
+    """Compute blocks in this process, overlapping each block's HDF5 write with the next block's compute.
+
+    The blocks run in a worker thread while this (main) thread waits, so that a Ctrl-C reaches the
+    handler at once and the sweep stops within a case; the block it cuts short is discarded (it is
+    recomputed on --resume), the finished ones are written.
+    """
+    failure: list[BaseException] = []
+
+    def compute_blocks():
+        try:
+            with num_threads(threads):  # numba's thread count is per calling thread
+                for block in pending:
+                    buf = writer.buffer()
+                    res = buf.view(block.size)
+                    job.compute(job.cases.inputs(block.start, block.stop), res, block.start, interrupt.stop)
+                    if interrupt.requested:
+                        break
+                    writer.submit(block, res, buf)
+        except BaseException as err:  # noqa: BLE001 - handed to the main thread
+            failure.append(err)
+
+    worker = threading.Thread(target=compute_blocks, name="fastbearing-compute", daemon=True)
     try:
-        for block in pending:
-            buf = writer.buffer()
-            res = buf.view(block.size)
-            job.compute(job.cases.inputs(block.start, block.stop), res)
-            writer.submit(block, res, buf)
-            if interrupt.requested:
-                raise KeyboardInterrupt
+        worker.start()
+        while worker.is_alive():
+            worker.join(0.05)
     finally:
         writer.close()  # also on Ctrl-C: the block in flight is written and kept for --resume
+    if failure:
+        raise failure[0]
+    if interrupt.requested:
+        raise KeyboardInterrupt
 
 
 def _status_counts(pf: storage.PartFile) -> dict[int, int]:
@@ -326,8 +353,8 @@ def _status_counts(pf: storage.PartFile) -> dict[int, int]:
     return counts
 
 
-def _summary(job: Job, counts: dict[int, int], wall: float, computed: int) -> str:
-    """One line: how many, what share converged and by status, how long."""
+def _summary(job: Job, counts: dict[int, int], wall: float, computed: int, finish: float = 0.0) -> str:
+    """One line: how many, what share converged and by status, how long (computing, then compressing)."""
     total = sum(counts.values())
     ok = sum(k for code, k in counts.items() if st.is_converged(code))
     by_status = ", ".join(f"{st.describe(code)} {k}" for code, k in sorted(counts.items(), key=lambda x: -x[1]))
@@ -335,8 +362,11 @@ def _summary(job: Job, counts: dict[int, int], wall: float, computed: int) -> st
     if job.solves_per_case > 1:
         what += f" x {job.solves_per_case} positions"
     rate = computed * job.solves_per_case / wall if wall > 0 else float("inf")
+    took = f"{wall:.2f} s wall"
+    if job.compression != "none":
+        took = f"{wall:.2f} s computing + {finish:.2f} s {job.compression} repack = {wall + finish:.2f} s wall"
     return (f"fastbearing: {what}, {100.0 * ok / max(total, 1):.2f} % converged ({by_status}); "
-            f"{wall:.2f} s wall, {rate:,.0f} solves/s")
+            f"{took}, {rate:,.0f} solves/s")
 
 
 # -- opening results -------------------------------------------------------------------------------

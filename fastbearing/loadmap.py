@@ -20,7 +20,7 @@ from .api import solver_settings
 from .bearing import ROW, Bearing
 from .bearing_file import read_job_config
 from .dofs import AXES, UNITS
-from .grid import Axis, CaseSet, parse_axis, read_case_file
+from .grid import Axis, CaseSet, parse_axis, read_case_file, segment_starts
 from .jobs import open_dataset  # noqa: F401 (public: fb.open_dataset)
 from .sweep import map_sweep
 
@@ -90,17 +90,19 @@ def read_config(config) -> LoadMapConfig:
 
 
 def compute_block(bearing: Bearing, given_load: bool, line_length: int, settings, inputs: np.ndarray,
-                  res: dict) -> None:
-    """Fill the result arrays ``res`` (one block's, see :func:`variables`) for ``inputs`` (n, 5).
+                  res: dict, first: int, stop: np.ndarray) -> None:
+    """Fill the result arrays ``res`` (one block's, see :func:`variables`) for ``inputs`` (n, 5), the
+    flat cases from ``first`` on; ``stop[0] != 0`` (Ctrl-C) ends it early, leaving the block incomplete.
 
     The work unit of a map: local runs and Dask workers both call it, on the
     same blocks, which is why their outputs are identical bit for bit.
     """
     balls = bearing.ball_set()
     ball_row = balls[0][ROW].astype(np.int64)
-    map_sweep(inputs, given_load, line_length, res["q"], res["f"], res["K"], res["status"], res["iterations"],
+    segments = segment_starts(first, first + inputs.shape[0], line_length)
+    map_sweep(inputs, given_load, segments, res["q"], res["f"], res["K"], res["status"], res["iterations"],
               res["residual"], res["max_ball_load"], res["loaded_balls"], res["min_contact_angle"],
-              res["max_contact_angle"], balls, ball_row, settings)
+              res["max_contact_angle"], balls, ball_row, settings, stop)
 
 
 def job(cfg: LoadMapConfig) -> jobs.Job:

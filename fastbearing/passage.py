@@ -179,12 +179,15 @@ def _variables(cfg: PassageConfig) -> list[storage.Variable]:
 
 
 def compute_block(tables: np.ndarray, exponents: np.ndarray, ball_row: np.ndarray, given_load: bool, settings,
-                  harmonics: int, inputs: np.ndarray, res: dict) -> None:
+                  harmonics: int, inputs: np.ndarray, res: dict, first: int, stop: np.ndarray) -> None:
     """Fill one block's results ``res``: every point of ``inputs`` at every cage position, then the
-    summaries over the period (mean, min, max, variation, Fourier). The work unit of a table, here or on Dask."""
+    summaries over the period (mean, min, max, variation, Fourier). The work unit of a table, here or on Dask.
+    ``first`` (the block's first point) is unused: every point starts cold. ``stop[0] != 0`` ends early."""
     passage_sweep(inputs, given_load, tables, exponents, res["q"], res["f"], res["K"], res["status"],
                   res["iterations"], res["residual"], res["max_ball_load"], res["loaded_balls"],
-                  res["min_contact_angle"], res["max_contact_angle"], ball_row, settings)
+                  res["min_contact_angle"], res["max_contact_angle"], ball_row, settings, stop)
+    if stop[0] != 0:
+        return  # incomplete: the runner discards the block
     for name, values in variation_summary(res["K"]).items():
         res[name][...] = values
     res["K_amplitude"][...], res["K_phase"][...] = fourier(res["K"], harmonics)

@@ -6,13 +6,34 @@ thread ran it.
 """
 
 import numpy as np
-from numba import njit, prange
+from numba import njit, prange, types
+from numba.extending import intrinsic
 
 from .config import CACHE, ERROR_MODEL
 from .kernel import ball_loop
 from .linalg import cholesky_solve
 from .solver import WORK_ROWS, solve_case
 from .status import CONVERGED, NONFINITE_RESULT, OUTCOME_MASK
+
+
+@intrinsic
+def _load_flag(typingctx, flag):
+    """flag[0] of an int64 array, as an atomic load: the compiler may not hoist it out of a loop,
+    so a sweep sees a flag set by another thread (Ctrl-C) at its next read."""
+    if not (isinstance(flag, types.Array) and flag.dtype == types.int64 and flag.ndim == 1):
+        return None
+
+    def codegen(context, builder, signature, args):
+        data = context.make_array(signature.args[0])(context, builder, args[0]).data
+        return builder.load_atomic(data, "monotonic", 8)
+
+    return types.int64(flag), codegen
+
+
+@njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True)
+def stop_requested(stop):
+    """True once ``stop[0]`` is non-zero (set by the runner's Ctrl-C handler)."""
+    return _load_flag(stop) != 0
 
 
 @njit(parallel=True, cache=CACHE, error_model=ERROR_MODEL)
@@ -125,28 +146,33 @@ def tangent_predictor(given_load, target, q_prev, f_prev, K_prev, q, scratch):
 
 
 @njit(parallel=True, cache=CACHE, error_model=ERROR_MODEL, nogil=True)
-def map_sweep(inputs, given_load, line_length, q, f, K, status, iterations, residual, max_load, n_loaded,
-              min_angle, max_angle, balls, ball_row, settings):
+def map_sweep(inputs, given_load, segments, q, f, K, status, iterations, residual, max_load, n_loaded,
+              min_angle, max_angle, balls, ball_row, settings, stop):
     """One block of a load or displacement map, in place.
 
     ``balls`` is the bearing's ball set. ``inputs`` (N, 5) are loads (N, N*mm) when ``given_load`` else
-    displacements (mm, rad). Cases come in lines of ``line_length``
-    consecutive cases along the fastest grid axis: each line starts cold and
-    each later case starts from its neighbour's converged q (continuation),
-    falling back to a cold start inside the solver when that fails.
+    displacements (mm, rad). ``segments`` (grid.segment_starts) cuts the
+    block into continuation runs along the fastest grid axis: each run
+    starts cold and each later case starts from its neighbour's converged q
+    by the tangent predictor, falling back to a cold start inside the solver
+    when that fails. ``stop[0] != 0`` (set by Ctrl-C from another thread)
+    ends the sweep at the next case; the block is then incomplete.
     """
-    n_lines = inputs.shape[0] // line_length
-    groups = min(n_lines, MAP_GROUPS)
+    n_runs = segments.shape[0] - 1
+    groups = min(n_runs, MAP_GROUPS)
     n_balls = balls[0].shape[1]
     for g in prange(groups):
         work = np.empty((WORK_ROWS, 5))
         predictor = np.empty((7, 5))
         ball_load = np.empty(n_balls)
         contact_angle = np.empty(n_balls)
-        for line in range(g, n_lines, groups):
-            for k in range(line_length):
-                i = line * line_length + k
-                warm = k > 0 and (status[i - 1] & OUTCOME_MASK) == CONVERGED
+        for run in range(g, n_runs, groups):
+            if stop_requested(stop):
+                break
+            for i in range(segments[run], segments[run + 1]):
+                if stop_requested(stop):
+                    break
+                warm = i > segments[run] and (status[i - 1] & OUTCOME_MASK) == CONVERGED
                 if warm:
                     tangent_predictor(given_load, inputs[i], q[i - 1], f[i - 1], K[i - 1], q[i], predictor)
                 status[i], iterations[i], residual[i] = operating_point(
@@ -157,13 +183,13 @@ def map_sweep(inputs, given_load, line_length, q, f, K, status, iterations, resi
 
 @njit(parallel=True, cache=CACHE, error_model=ERROR_MODEL, nogil=True)
 def passage_sweep(inputs, given_load, tables, exponent, q, f, K, status, iterations, residual, max_load, n_loaded,
-                  min_angle, max_angle, ball_row, settings):
+                  min_angle, max_angle, ball_row, settings, stop):
     """Ball-passage tables, in place: every operating point at every cage position.
 
     ``tables`` (P, 12, n_balls) holds the ball table at each of P cage
     angles (``exponent`` as in a ball set); outputs are (N, P, ...). Along
     the positions of one point each solve starts from the previous
-    position's converged q.
+    position's converged q. ``stop[0] != 0`` ends the sweep early, as in map_sweep.
     """
     n_points = inputs.shape[0]
     n_positions = tables.shape[0]
@@ -174,6 +200,8 @@ def passage_sweep(inputs, given_load, tables, exponent, q, f, K, status, iterati
         ball_load = np.empty(n_balls)
         contact_angle = np.empty(n_balls)
         for i in range(g, n_points, groups):
+            if stop_requested(stop):
+                break
             for p in range(n_positions):
                 warm = p > 0 and (status[i, p - 1] & OUTCOME_MASK) == CONVERGED
                 if warm:

@@ -70,17 +70,17 @@ def rng():
 
 
 def interrupted_after(job, n_blocks):
-    """The same job (jobs.Job), but Ctrl-C arrives while block ``n_blocks`` (0-based) computes:
-    a deterministic interruption, no timing involved."""
+    """The same job (jobs.Job), but Ctrl-C arrives as block ``n_blocks`` (0-based) starts: its sweep
+    sees the stop flag set, as after a real SIGINT; a deterministic interruption, no timing involved."""
     import dataclasses
 
     calls = []
 
-    def compute(inputs, res):
+    def compute(inputs, res, first, stop):
         if len(calls) == n_blocks:
-            raise KeyboardInterrupt
+            stop[0] = 1
         calls.append(1)
-        job.compute(inputs, res)
+        job.compute(inputs, res, first, stop)
 
     return dataclasses.replace(job, compute=compute)
 

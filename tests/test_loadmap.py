@@ -2,10 +2,12 @@
 solve, HDF5/xarray layout, and safety (overwrite, kill and resume, Ctrl-C; memory in bench/)."""
 
 import json
+import re
 import signal
 import subprocess
 import sys
 import textwrap
+import threading
 import time
 from pathlib import Path
 
@@ -14,7 +16,7 @@ import numpy as np
 import pytest
 
 import fastbearing as fb
-from fastbearing.grid import plan_blocks
+from fastbearing.grid import LINE_SEGMENT, plan_blocks, segment_starts
 from fastbearing.loadmap import loadmap, open_dataset, read_config
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -99,6 +101,28 @@ def test_blocks_are_hyperslabs_of_whole_lines(shape, chunk):
     assert (cover == 1).all()
 
 
+@pytest.mark.parametrize("shape, chunk", [((3 * LINE_SEGMENT + 5,), 1), ((3 * LINE_SEGMENT + 5,), LINE_SEGMENT + 1),
+                                          ((3 * LINE_SEGMENT + 5,), 2 * LINE_SEGMENT),
+                                          ((3, 2 * LINE_SEGMENT + 7), 3 * LINE_SEGMENT),
+                                          ((2, 3, LINE_SEGMENT + 1), 100)])
+def test_long_lines_split_between_segments(shape, chunk):
+    """A line longer than the chunk is cut into blocks, only where continuation restarts anyway."""
+    line = shape[-1]
+    cover = np.zeros(shape, int)
+    flat = np.arange(int(np.prod(shape))).reshape(shape)
+    blocks = plan_blocks(shape, line, chunk)
+    for b in blocks:
+        cover[b.slab] += 1
+        np.testing.assert_array_equal(flat[b.slab].ravel(), np.arange(b.start, b.stop))
+        assert b.start % line % LINE_SEGMENT == 0 and (b.stop % line == 0 or b.stop % line % LINE_SEGMENT == 0)
+        assert b.size <= max(chunk, LINE_SEGMENT)
+    assert (cover == 1).all() and len(blocks) > 1
+    # segments: every line start and every LINE_SEGMENT cases along a line, whatever the block cut
+    starts = np.concatenate([b.start + segment_starts(b.start, b.stop, line)[:-1] for b in blocks])
+    expect = [i for i in range(int(np.prod(shape))) if i % line % LINE_SEGMENT == 0]
+    np.testing.assert_array_equal(starts, expect)
+
+
 # -- results ------------------------------------------------------------------
 
 @pytest.fixture(scope="module")
@@ -113,6 +137,31 @@ def test_identical_for_any_thread_count_and_chunk_size(tmp_path, small_map):
         out = loadmap(config(tmp_path, SMALL + f"chunk = {chunk}\n"), tmp_path / f"m{threads}-{chunk}.h5",
                       threads=threads, progress=False)
         assert_identical(read_all(out), reference)
+
+
+LONG_LINE = f"""
+given = "load"
+Fz = {{ start = 500.0, stop = 10000.0, num = {2 * LINE_SEGMENT + 100} }}
+Fx = 300.0
+My = -2.0e4
+"""
+
+
+def test_long_lines_identical_for_any_chunk_and_thread_count(tmp_path):
+    """A 1-D line longer than LINE_SEGMENT, cut into blocks of several sizes: bit for bit the same."""
+    results = []
+    for threads, chunk in ((1, 1_000_000), (2, 1), (1, LINE_SEGMENT), (2, LINE_SEGMENT + 3), (2, 2 * LINE_SEGMENT)):
+        out = loadmap(config(tmp_path, LONG_LINE + f"chunk = {chunk}\n"), tmp_path / f"l{threads}-{chunk}.h5",
+                      threads=threads, progress=False)
+        with h5py.File(out, "r") as fh:
+            assert fh.attrs["n_blocks"] == (1 if chunk == 1_000_000 else 3 if chunk < 2 * LINE_SEGMENT else 2)
+        results.append(read_all(out))
+    for r in results[1:]:
+        assert_identical(r, results[0])
+    assert (results[0]["status"] == 0).all()
+    # continuation restarts cold at each segment, so a segment's first case takes more iterations
+    it = results[0]["iterations"]
+    assert it[LINE_SEGMENT] > np.median(it) and it[2 * LINE_SEGMENT] > np.median(it)
 
 
 def test_cases_agree_with_solve(small_map):
@@ -193,8 +242,10 @@ def test_xarray_layout_units_and_provenance(small_map):
 
 
 @pytest.mark.parametrize("compression", ["lzf", "gzip"])
-def test_compression_keeps_values(tmp_path, small_map, compression):
+def test_compression_keeps_values(tmp_path, small_map, compression, capsys):
     out = loadmap(config(tmp_path, SMALL + f'compression = "{compression}"\nchunk = 35\n'), progress=False)
+    # the summary tells the repack apart from the computing and gives the total
+    assert re.search(rf"[\d.]+ s computing \+ [\d.]+ s {compression} repack = [\d.]+ s wall", capsys.readouterr().err)
     assert_identical(read_all(out), read_all(small_map))
     with h5py.File(out, "r") as fh:
         assert fh["K"].compression == compression
@@ -278,6 +329,39 @@ def test_sigkill_then_resume_is_identical_to_uninterrupted(tmp_path):
     # the resumed run computed only what was missing
     rate_line = resumed.stderr.strip().splitlines()[-1]
     assert "100.00 % converged" in rate_line
+
+
+HARD_MAP = """
+Fx = { start = -1.0, stop = 1.0, num = 40 }
+Fz = { start = -1.0, stop = 1.0, num = 40 }
+My = { start = -30.0, stop = 30.0, num = 100 }
+chunk = 200000
+"""
+HARD_BEARING = 'preset = "gunduz2013"\narrangement = "single"\nradial_clearance = 0.01'
+
+
+def test_ctrl_c_stops_inside_a_long_block(tmp_path):
+    """Loads of about 1 N on a single row with clearance, all in one block of several seconds: a SIGINT
+    stops the sweep within the block, not after it; nothing unfinished is kept."""
+    loadmap(config(tmp_path, "Fx = [0.5, 1.0]\nFz = 0.5\n", bearing=HARD_BEARING), tmp_path / "warm.h5",
+            progress=False)  # compiled before the clock starts
+    sent = []
+
+    def interrupt():
+        sent.append(time.perf_counter())
+        signal.raise_signal(signal.SIGINT)
+
+    timer = threading.Timer(1.0, interrupt)
+    timer.start()
+    started = time.perf_counter()
+    with pytest.raises(KeyboardInterrupt):
+        loadmap(config(tmp_path, HARD_MAP, bearing=HARD_BEARING), tmp_path / "hard.h5", progress=False)
+    stopped = time.perf_counter()
+    timer.join()
+    assert sent and stopped - sent[0] < 1.5, f"{stopped - sent[0]:.2f} s from SIGINT to stop"
+    assert stopped - started < 3.0     # the whole block takes 4-5 s on two cores
+    with h5py.File(tmp_path / "hard.h5.part", "r") as fh:
+        assert fh["block_done"][...].tolist() == [0]     # the cut block is not kept as done
 
 
 def test_ctrl_c_stops_quickly_and_leaves_a_resumable_file(tmp_path):
