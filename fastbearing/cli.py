@@ -147,12 +147,17 @@ def build_parser() -> argparse.ArgumentParser:
                         description=(
                             "Export Kb from a `solve --json` or `shaft --json` output (.json) or from a load map "
                             "or ball-passage file (.h5). DOF order x, y, z, tx, ty; units N/mm, N*mm/rad, N/rad "
-                            "(ROSS: SI, N/m). csv/json/npz take every case of a file; dmig and ross take one "
-                            "(--case, the flat case index)."))
+                            "(ROSS: SI, N/m). csv/json/npz take every case of a file, each with its coordinates (Fx ... My "
+                            "or dx ... by, with units); dmig and ross take one (--case, the flat case index, or "
+                            "--at, the nearest grid point)."))
     ex.add_argument("source", metavar="SOURCE", help="a .json from solve/shaft --json, or a .h5 map or table")
     ex.add_argument("--format", required=True, choices=EXPORT_FORMATS, help="output format")
     ex.add_argument("-o", "--output", required=True, metavar="OUT", help="output file")
     ex.add_argument("--case", type=int, default=None, metavar="N", help="flat case index in a .h5 source")
+    ex.add_argument("--at", metavar="AXIS=VALUE,...", default=None,
+                    help="the case of a .h5 source nearest to these coordinates, every varying axis named in "
+                         "its units (N, N*mm; mm, rad), e.g. --at Fx=1000,Fz=3000,My=0; a table's own dims "
+                         "by index: --at point=3,position=0")
     ex.add_argument("--grid", type=int, default=1, metavar="ID", help="DMIG: grid of the inner ring (default 1)")
     ex.add_argument("--ground-grid", type=int, default=None, metavar="ID",
                     help="DMIG: second grid (outer ring); writes the 10x10 spring between the two")
@@ -399,7 +404,9 @@ def _export(args) -> int:
         raise ValueError("--grid, --ground-grid and --name go with --format dmig")
     if args.format != "ross" and args.node != 0:
         raise ValueError("--node goes with --format ross")
-    source = export.read_source(args.source, args.case)
+    source = export.read_source(args.source, args.case, None if args.at is None else export.parse_at(args.at))
+    if source.picked:
+        print(f"fastbearing: {source.picked}", file=sys.stderr)
     K = source.K[0] if source.K.ndim == 3 and len(source.K) == 1 else source.K
     if not np.isfinite(K).all():
         raise ValueError(f"{args.source}: K is not finite (a case that did not solve)")
@@ -407,7 +414,7 @@ def _export(args) -> int:
     if args.format in ("dmig", "ross"):
         if np.ndim(K) == 3:
             raise ValueError(f"--format {args.format} takes one matrix: pick a case of {Path(args.source).name} "
-                             "with --case N")
+                             "with --case N or --at AXIS=VALUE,...")
         if bad:
             raise ValueError(f"{args.source}: the case's solve did not converge (status {source.status[0]}); "
                              f"a {args.format} model would take its Kb as true")
@@ -416,11 +423,11 @@ def _export(args) -> int:
               f"(first: case {bad[0]}, {source.status[bad[0]]}); their Kb is written as computed",
               file=sys.stderr)
     if args.format == "csv":
-        export.write_csv(out, K, overwrite=args.overwrite)
+        export.write_csv(out, K, overwrite=args.overwrite, coords=source.coords)
     elif args.format == "json":
-        export.write_json(out, K, overwrite=args.overwrite, extra=source.extra)
+        export.write_json(out, K, overwrite=args.overwrite, extra=source.extra, coords=source.coords)
     elif args.format == "npz":
-        export.write_npz(out, K, overwrite=args.overwrite)
+        export.write_npz(out, K, overwrite=args.overwrite, coords=source.coords)
     elif args.format == "dmig":
         if args.grid < 1 or (args.ground_grid is not None and (args.ground_grid < 1 or args.ground_grid == args.grid)):
             raise ValueError("--grid and --ground-grid must be different positive grid ids")

@@ -10,11 +10,12 @@ from __future__ import annotations
 import csv
 import json
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
+from .dofs import AXES, k_entry_units
 from .dofs import DOF_LABELS as DOF
 from .files import publish as _publish
 
@@ -27,11 +28,15 @@ NASTRAN_COMPONENTS = (1, 2, 3, 4, 5)
 @dataclass(frozen=True)
 class Source:
     """Kb read from a solve/shaft JSON or a finished map or table: ``K`` (5, 5) or (N, 5, 5), each case's
-    ``status`` name, and ``extra`` fields (q, f of a solve) to carry into JSON exports."""
+    ``status`` name, ``coords`` (what each case is: name -> (values (N,), units), the five inputs Fx ... My
+    or dx ... by first, then e.g. position, cage_angle), and ``extra`` fields (q, f of a solve) to carry into
+    JSON exports. ``picked`` describes the case chosen by ``--at`` (empty otherwise)."""
 
     K: np.ndarray
     status: list[str]
     extra: dict
+    coords: dict = field(default_factory=dict)
+    picked: str = ""
 
     @property
     def unconverged(self) -> list[int]:
@@ -43,19 +48,45 @@ def _usable(status: str) -> bool:
     return status.split("+")[0] in ("converged", "unloaded", "direct")
 
 
-def read_source(path, case: int | None = None) -> Source:
+def parse_at(text: str) -> dict[str, float]:
+    """``"Fx=1000,Fz=3000,My=0"`` as {"Fx": 1000.0, ...}; ValueError names what is wrong."""
+    out = {}
+    for item in text.split(","):
+        name, sep, value = item.partition("=")
+        name = name.strip()
+        if not sep or not name:
+            raise ValueError(f"--at takes NAME=VALUE pairs separated by commas (e.g. Fx=1000,Fz=3000), got {item!r}")
+        try:
+            number = float(value)
+        except ValueError:
+            raise ValueError(f"--at {name} must be a number, got {value.strip()!r}") from None
+        if not np.isfinite(number):
+            raise ValueError(f"--at {name} must be finite, got {value.strip()!r}")
+        if name in out:
+            raise ValueError(f"--at names {name} twice")
+        out[name] = number
+    return out
+
+
+def read_source(path, case: int | None = None, at: dict | None = None) -> Source:
     """Kb from ``fastbearing solve --json`` / ``shaft --json`` output (.json) or a finished .h5 file.
 
-    ``case`` picks one case (flat index) of a .h5 map or table; it is refused for a .json source,
-    which holds one matrix. An unfinished file (a ``.part``, however named) is refused.
+    ``case`` picks one case (flat index) of a .h5 map or table, ``at`` the grid point nearest to
+    given coordinates (e.g. {"Fx": 1000.0, "Fz": 3000.0, "My": 0.0}: every varying axis, values in the
+    axis' units; a case table's or passage table's own dims by index, e.g. {"point": 3, "position": 0});
+    both are refused for a .json source, which holds one matrix. An unfinished file (a ``.part``, however
+    named) is refused.
     """
     path = Path(path)
     if not path.is_file():
         raise ValueError(f"file not found: {path}" if not path.exists() else f"{path} is not a file")
+    if case is not None and at is not None:
+        raise ValueError("give --case or --at, not both")
     suffix = path.suffix.lower()
     if suffix == ".json":
-        if case is not None:
-            raise ValueError("--case picks a case of a .h5 map or table; a .json source holds one matrix")
+        if case is not None or at is not None:
+            raise ValueError(f"--{'case' if case is not None else 'at'} picks a case of a .h5 map or table; "
+                             "a .json source holds one matrix")
         try:
             body = json.loads(path.read_text())
         except (ValueError, UnicodeDecodeError):
@@ -79,20 +110,93 @@ def read_source(path, case: int | None = None) -> Source:
             node = fh.get("K")
             if not isinstance(node, h5py.Dataset) or node.shape[-2:] != (5, 5) or node.dtype.kind != "f":
                 raise ValueError(f"{path} is not a fastbearing map or table (no 5 x 5 variable K)")
-            n = int(np.prod(node.shape[:-2]))
+            lead = node.shape[:-2]
+            n = int(np.prod(lead))
+            coords = _case_coordinates(fh, node)
+            picked = ""
+            if at is not None:
+                case, picked = _nearest_case(fh, node, coords, at)
             codes = fh["status"][()].reshape(-1) if "status" in fh else np.zeros(n, np.int8)
             if case is not None:
                 if not 0 <= case < n:
                     raise ValueError(f"--case must be in [0, {n - 1}] (the flat case index), got {case}")
-                K = node[np.unravel_index(case, node.shape[:-2])]
+                K = node[np.unravel_index(case, lead)]
                 codes = codes[case:case + 1]
+                coords = {k: (v[case:case + 1], u) for k, (v, u) in coords.items()}
             else:
                 K = node[()].reshape(-1, 5, 5)
     except OSError:
         raise ValueError(f"{path} is not a readable HDF5 file") from None
     from . import status as st
 
-    return Source(np.asarray(K, dtype=float), [st.describe(int(c)) for c in codes], {})
+    return Source(np.asarray(K, dtype=float), [st.describe(int(c)) for c in codes], {}, coords, picked)
+
+
+def _dim_names(ds) -> list[str]:
+    """The dimension-scale name attached to each axis of an HDF5 dataset ('' where none)."""
+    names = []
+    for d in ds.dims:
+        scales = list(d.keys())
+        names.append(scales[0] if scales else "")
+    return names
+
+
+def _case_coordinates(fh, K) -> dict:
+    """Every case's coordinates, flattened in C order over K's leading dims: the five inputs (grid dims,
+    constants or a table's columns) first, then the other coordinates along those dims (position,
+    cage_angle, time ...); name -> (values (N,), units). A case table's ``case`` number is the flat index
+    itself and is not repeated."""
+    import h5py
+
+    lead_dims = _dim_names(K)[:-2]
+    shape = K.shape[:-2]
+    given = str(fh.attrs.get("given", "load"))
+    names = AXES.get(given, AXES["load"])
+    out = {}
+
+    def broadcast(values, axis):
+        view = [1] * len(shape)
+        view[axis] = len(values)
+        return np.broadcast_to(np.asarray(values, float).reshape(view), shape).reshape(-1)
+
+    listed = K.attrs.get("coordinates", "")
+    others = (listed.decode() if isinstance(listed, bytes) else str(listed)).split()  # CF: scalar and aux coords
+    for name in (*names, *lead_dims, *others):
+        ds = fh.get(name)
+        if name == "case" or not isinstance(ds, h5py.Dataset) or name in out or ds.dtype.kind not in "fiu":
+            continue
+        units = ds.attrs.get("units", "1")
+        units = units.decode() if isinstance(units, bytes) else str(units)
+        if ds.ndim == 0:
+            out[name] = (np.full(int(np.prod(shape)), float(ds[()])), units)
+            continue
+        if ds.ndim != 1:
+            continue
+        dim = name if name in lead_dims else (_dim_names(ds)[0] if ds.dims[0].keys() else "")
+        if dim in lead_dims and len(ds) == shape[lead_dims.index(dim)]:
+            out[name] = (broadcast(ds[()], lead_dims.index(dim)), units)
+    return out
+
+
+def _nearest_case(fh, K, coords: dict, at: dict) -> tuple[int, str]:
+    """The flat index of the case nearest to ``at`` along every leading dim, and a line saying which."""
+    lead_dims = _dim_names(K)[:-2]
+    shape = K.shape[:-2]
+    unknown = sorted(set(at) - set(lead_dims))
+    missing = [d for d in lead_dims if d not in at]
+    if unknown or missing:
+        raise ValueError(f"--at must name each varying axis of this file once: {', '.join(lead_dims)} "
+                         f"(unknown {unknown}, missing {missing})")
+    index, said = [], []
+    for axis, dim in enumerate(lead_dims):
+        values = fh[dim][()] if dim in fh else np.arange(shape[axis])
+        values = np.asarray(values, float)
+        k = int(np.argmin(np.abs(values - at[dim])))
+        index.append(k)
+        exact = values[k] == at[dim]
+        said.append(f"{dim}={values[k]:g}" + ("" if exact else f" (nearest to {at[dim]:g})"))
+    flat = int(np.ravel_multi_index(index, shape))
+    return flat, f"--at picked {', '.join(said)}: case {flat}"
 
 
 def _matrix_field(value, name: str) -> np.ndarray:
@@ -119,12 +223,25 @@ def _as_matrices(K) -> np.ndarray:
     return K.reshape(-1, 5, 5)
 
 
-def write_csv(path, K, overwrite=False) -> Path:
-    """One row per matrix: index then the 25 entries K_ij in row-major DOF order, units in the header."""
+def _coordinate_columns(coords: dict | None, n: int) -> list[tuple[str, np.ndarray, str]]:
+    out = []
+    for name, (values, units) in (coords or {}).items():
+        values = np.asarray(values, float).reshape(-1)
+        if len(values) != n:
+            raise ValueError(f"coordinate {name} has {len(values)} values for {n} matrices")
+        out.append((name, values, units))
+    return out
+
+
+def write_csv(path, K, overwrite=False, coords: dict | None = None) -> Path:
+    """One row per matrix: the case index, what the case is (``coords``: name -> (values, units), e.g.
+    Fx ... My), then the 25 entries K_ij in row-major DOF order; every header names its units."""
     path = Path(path)
     _check_output(path, overwrite)
     Ks = _as_matrices(K)
-    header = ["case"] + [f"k_{a}{b}" for a in DOF for b in DOF]
+    columns = _coordinate_columns(coords, len(Ks))
+    header = (["case"] + [f"{name} [{units}]" for name, _, units in columns]
+              + [f"k_{a}{b} [{k_entry_units(i, j)}]" for i, a in enumerate(DOF) for j, b in enumerate(DOF)])
 
     def write(tmp):
         with tmp.open("w", newline="") as fh:
@@ -132,32 +249,53 @@ def write_csv(path, K, overwrite=False) -> Path:
             w = csv.writer(fh)
             w.writerow(header)
             for i, k in enumerate(Ks):
-                w.writerow([i] + [repr(float(v)) for v in k.ravel()])
+                w.writerow([i] + [repr(float(v[i])) for _, v, _ in columns] + [repr(float(v)) for v in k.ravel()])
     return _publish(path, write)
 
 
 def read_csv(path) -> np.ndarray:
+    """The (N, 5, 5) Kb of a CSV from :func:`write_csv` (columns found by their k_ names)."""
+    with open(path, newline="") as fh:
+        fh.readline()
+        header = next(csv.reader(fh))
+    cols = [i for i, h in enumerate(header) if h.startswith("k_")]
     rows = np.loadtxt(path, delimiter=",", comments="#", skiprows=2, ndmin=2)
-    return rows[:, 1:].reshape(-1, 5, 5)
+    return rows[:, cols].reshape(-1, 5, 5)
 
 
-def write_json(path, K, overwrite=False, extra: dict | None = None) -> Path:
-    """{"dof": [...], "units": ..., "K": 5x5 or a list of them}, plus ``extra`` (e.g. q, f, status)."""
+def write_json(path, K, overwrite=False, extra: dict | None = None, coords: dict | None = None) -> Path:
+    """{"dof": [...], "units": ..., "K": 5x5 or a list of them, "cases": {name: {"units", "values"}}},
+    plus ``extra`` (e.g. q, f, status)."""
     path = Path(path)
     _check_output(path, overwrite)
     Ks = _as_matrices(K)
     body = {"dof": list(DOF), "units": UNITS, "K": Ks[0].tolist() if np.ndim(K) == 2 else Ks.tolist()}
+    columns = _coordinate_columns(coords, len(Ks))
+    if columns:
+        one = np.ndim(K) == 2
+        body["cases"] = {name: {"units": units, "values": float(v[0]) if one else v.tolist()}
+                         for name, v, units in columns}
     body.update(extra or {})
     return _publish(path, lambda tmp: tmp.write_text(json.dumps(body, indent=1)))
 
 
-def write_npz(path, K, overwrite=False, **arrays) -> Path:
-    """NumPy .npz with K, dof (names) and units (text), plus any other arrays given."""
+def write_npz(path, K, overwrite=False, coords: dict | None = None, **arrays) -> Path:
+    """NumPy .npz with K, dof (names) and units (text), each coordinate of ``coords`` as an array of its
+    own name with its units in ``coordinate_units`` ("Fx: N", ...), plus any other arrays given."""
     path = Path(path)
     _check_output(path, overwrite)
+    Ks = _as_matrices(K)
+    columns = _coordinate_columns(coords, len(Ks))
+    named = {name: v for name, v, _ in columns}
+    if columns:
+        named["coordinate_units"] = np.array([f"{name}: {units}" for name, _, units in columns])
+    clash = sorted(set(named) & {"K", "dof", "units"})
+    if clash:
+        raise ValueError(f"coordinate names {clash} clash with the npz's own arrays")
+
     def write(tmp):
         with tmp.open("wb") as fh:
-            np.savez(fh, K=np.asarray(K, dtype=float), dof=np.array(DOF), units=np.array(UNITS), **arrays)
+            np.savez(fh, K=np.asarray(K, dtype=float), dof=np.array(DOF), units=np.array(UNITS), **named, **arrays)
     return _publish(path, write)
 
 

@@ -92,3 +92,72 @@ def test_export_cli_from_solve_json_and_from_a_map(tmp_path):
     assert cli("export", str(m), "--format", "dmig", "-o", str(tmp_path / "x.dmig"), "--case", "1").returncode == 0
     again = cli("export", str(m), "--format", "npz", "-o", str(tmp_path / "m.npz"))
     assert again.returncode == 2 and "exists" in again.stderr
+
+
+@pytest.fixture(scope="module")
+def grid_map(tmp_path_factory):
+    tmp = tmp_path_factory.mktemp("exp")
+    return fb.loadmap({"bearing": {"preset": "gunduz2013", "arrangement": "DB"},
+                       "loadmap": {"Fx": [500.0, 1000.0, 1500.0], "Fz": 2000.0,
+                                   "My": {"start": -1.0e4, "stop": 1.0e4, "num": 4}}}, tmp / "m.h5", progress=False)
+
+
+def test_exports_of_a_map_keep_each_case_inputs(tmp_path, grid_map):
+    """CSV, JSON and npz carry Fx ... My (with units) beside every case, in the order of K."""
+    from conftest import cli_run as cli
+
+    ds = fb.open_dataset(grid_map)
+    Fx, My = np.meshgrid(ds["Fx"].values, ds["My"].values, indexing="ij")
+    for fmt in ("csv", "json", "npz"):
+        assert cli("export", grid_map, "--format", fmt, "-o", tmp_path / f"m.{fmt}").returncode == 0
+    lines = (tmp_path / "m.csv").read_text().splitlines()
+    header = lines[1].split(",")
+    assert header[:6] == ["case", "Fx [N]", "Fy [N]", "Fz [N]", "Mx [N*mm]", "My [N*mm]"]
+    assert header[6] == "k_xx [N/mm]" and "k_txty [N*mm/rad]" in header and "k_xtx [N/rad]" in header
+    rows = np.loadtxt(tmp_path / "m.csv", delimiter=",", skiprows=2, ndmin=2)
+    np.testing.assert_array_equal(rows[:, 1], Fx.ravel())
+    np.testing.assert_array_equal(rows[:, 3], 2000.0)
+    np.testing.assert_array_equal(rows[:, 5], My.ravel())
+    np.testing.assert_array_equal(ex.read_csv(tmp_path / "m.csv"), ds["K"].values.reshape(-1, 5, 5))
+    body = json.loads((tmp_path / "m.json").read_text())
+    assert body["cases"]["My"]["units"] == "N*mm" and body["cases"]["Fx"]["values"] == Fx.ravel().tolist()
+    data = np.load(tmp_path / "m.npz")
+    np.testing.assert_array_equal(data["My"], My.ravel())
+    assert "Fz: N" in list(data["coordinate_units"])
+
+
+def test_export_at_picks_the_nearest_grid_point_and_says_so(tmp_path, grid_map):
+    from conftest import cli_run as cli
+
+    ds = fb.open_dataset(grid_map)
+    r = cli("export", grid_map, "--format", "json", "-o", tmp_path / "one.json", "--at", "Fx=990,My=3000")
+    assert r.returncode == 0, r.stderr
+    assert "Fx=1000 (nearest to 990)" in r.stderr and "case 6" in r.stderr
+    body = json.loads((tmp_path / "one.json").read_text())
+    expect = ds["K"].sel(Fx=1000.0, My=3000.0, method="nearest").values
+    np.testing.assert_array_equal(np.array(body["K"]), expect)
+    assert body["cases"]["Fx"]["values"] == 1000.0
+    assert cli("export", grid_map, "--format", "dmig", "-o", tmp_path / "a.dmig", "--at",
+               "Fx=1500,My=-1e4").returncode == 0
+    for at, words in (("Fx=1000", "missing ['My']"), ("Fx=1000,My=0,Fz=3", "unknown ['Fz']"),
+                      ("Fx=abc,My=0", "--at Fx must be a number"), ("Fx", "NAME=VALUE")):
+        bad = cli("export", grid_map, "--format", "dmig", "-o", tmp_path / "b.dmig", "--at", at)
+        assert bad.returncode == 2 and words in bad.stderr, bad.stderr
+    both = cli("export", grid_map, "--format", "dmig", "-o", tmp_path / "b.dmig", "--at", "Fx=1,My=0", "--case", "1")
+    assert both.returncode == 2 and "not both" in both.stderr
+
+
+def test_passage_export_carries_point_inputs_and_cage_angle(tmp_path):
+    from conftest import cli_run as cli
+
+    out = fb.passage({"bearing": {"preset": "gunduz2013", "arrangement": "DB"},
+                      "passage": {"given": "displacement", "points": [[0.05, 0, 0, 0, 0], [0.0, 0, 0.02, 0, 0]],
+                                  "positions": 8}}, tmp_path / "p.h5", progress=False)
+    assert cli("export", out, "--format", "npz", "-o", tmp_path / "p.npz").returncode == 0
+    data = np.load(tmp_path / "p.npz")
+    assert data["K"].shape == (16, 5, 5)
+    np.testing.assert_array_equal(data["dx"], [0.05] * 8 + [0.0] * 8)
+    np.testing.assert_array_equal(data["position"], list(range(8)) * 2)
+    assert data["cage_angle"].shape == (16,)
+    r = cli("export", out, "--format", "json", "-o", tmp_path / "one.json", "--at", "point=1,position=2")
+    assert r.returncode == 0 and "case 10" in r.stderr
