@@ -19,7 +19,7 @@ from .bearing_file import load_bearing, preset_bearing
 from .contacts import ball_contacts
 from .dofs import DISPLACEMENT_NAMES, LOAD_NAMES
 from .export import FORMATS as EXPORT_FORMATS
-from .files import DiskFull
+from .files import DiskFull, OutputExists
 from .geometry import load_centre_spread
 from .plot import NORMALISE, PASSAGE_X
 
@@ -71,7 +71,11 @@ def json_text(obj) -> str:
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="fastbearing", description="Stiffness matrices of angular contact ball bearings "
                      "(Gunduz & Singh 2013). Units: N, mm, rad.")
-    sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
+    from . import __version__
+
+    parser.add_argument("--version", action="version", version=f"fastbearing {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser,
+                                title="commands (fastbearing COMMAND --help for each)")
     p = sub.add_parser("solve", help="Kb at one load or displacement", description=(
         "Full 5x5 stiffness matrix Kb at one operating point, given the load (solved for the displacement) "
         "or the displacement (direct substitution). Units: N, mm, rad. A value list that starts with a minus "
@@ -115,7 +119,7 @@ def build_parser() -> argparse.ArgumentParser:
                        description=(
                            "Rotate the ball set through one ball-pass period and tabulate Kb (and q) at every "
                            "cage position for each operating point of the [passage] table of CONFIG.toml, with the "
-                           "mean, min, max, peak-to-peak variation (%% of mean) and Fourier harmonics of every "
+                           "mean, min, max, peak-to-peak variation (% of mean) and Fourier harmonics of every "
                            "entry. Units: N, mm, rad; time s; frequency Hz. An interrupted run (Ctrl-C, kill) keeps "
                            "its finished blocks in OUT.h5.part: continue with --resume."))
     p.add_argument("config", metavar="CONFIG.toml", help="config with [bearing] and [passage] tables")
@@ -249,7 +253,8 @@ def _add_plot_parsers(sub) -> None:
                            "loaded_balls, min_contact_angle, max_contact_angle. Units: N, mm, rad, shown with "
                            "k/M/G or m prefixes unless --base-units. Needs matplotlib "
                            "(pip install 'fastbearing[plot]')."))
-    kinds = p.add_subparsers(dest="kind", required=True, parser_class=_Parser)
+    kinds = p.add_subparsers(dest="picture", required=True, metavar="PICTURE", parser_class=_Parser,
+                             title="pictures (fastbearing plot PICTURE --help for each)")
 
     def common(q, file=True):
         if file:
@@ -317,7 +322,7 @@ def _plot(args) -> int:
 
     size = _size(args.size) if args.size else None
     opts = dict(out=args.output, overwrite=args.overwrite, size=size, dpi=args.dpi)
-    if args.kind == "loadzone":
+    if args.picture == "loadzone":
         bearing = _bearing(args)
         code = 0
         if args.load is not None:
@@ -329,11 +334,11 @@ def _plot(args) -> int:
         plot.plot_load_zone(bearing, q, title=title, **opts)
         return code
     opts.update(at=_at(args.at), base_units=args.base_units)
-    if args.kind == "map":
+    if args.picture == "map":
         plot.plot_map(args.file, args.var, args.x, args.y, kind=args.kind_of_map, row=args.row, **opts)
-    elif args.kind == "line":
+    elif args.picture == "line":
         plot.plot_lines(args.file, _names(args.var), args.x, series=args.series, row=args.row, **opts)
-    elif args.kind == "passage":
+    elif args.picture == "passage":
         plot.plot_passage(args.file, _names(args.var), x=args.x, normalise=args.normalise, **opts)
     else:
         plot.plot_spectrum(args.file, _names(args.var), normalise=args.normalise, log=not args.linear, **opts)
@@ -606,8 +611,14 @@ def _solve(args) -> int:
 
 def main(argv=None) -> int:
     parser = build_parser()
+    argv = sys.argv[1:] if argv is None else list(argv)
+    if not argv:
+        parser.print_help()
+        return 0
     try:
         args = parser.parse_args(argv)
+        if args.command is None:
+            raise _UsageError("fastbearing: give a command: " + ", ".join(sorted(_COMMANDS)))
         return {"solve": _solve, "bearing": _bearing_command, "loadmap": _loadmap,
                 "passage": _passage, "plot": _plot, "paper": _paper, "shaft": _shaft, "export": _export}[args.command](args)
     except DiskFull as err:
@@ -620,10 +631,16 @@ def main(argv=None) -> int:
         print(f"fastbearing: the disk is full ({err.filename or 'output'}): nothing was written; free some space "
               "and run again", file=sys.stderr)
         return 1
+    except OutputExists as err:
+        print(f"fastbearing: error: {err.cli_message()}", file=sys.stderr)
+        return EXIT_USAGE
     except (_UsageError, ValueError) as err:
         print(f"fastbearing: error: {err}" if not str(err).startswith("fastbearing") else str(err),
               file=sys.stderr)
         return EXIT_USAGE
+
+
+_COMMANDS = ("solve", "bearing", "loadmap", "passage", "plot", "paper", "shaft", "export")
 
 
 def entry_point() -> int:

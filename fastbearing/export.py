@@ -18,6 +18,7 @@ import numpy as np
 from .dofs import AXES, k_entry_units
 from .dofs import DOF_LABELS as DOF
 from .files import publish as _publish
+from .files import refuse_overwrite
 
 UNITS = "N/mm among x, y, z; N*mm/rad among tx, ty; N/rad between translations and tilts"
 FORMATS = ("csv", "json", "npz", "dmig", "ross")
@@ -210,8 +211,7 @@ def _matrix_field(value, name: str) -> np.ndarray:
 
 
 def _check_output(path: Path, overwrite: bool) -> None:
-    if path.exists() and not overwrite:
-        raise ValueError(f"{path} exists; pass --overwrite (overwrite=True) to replace it")
+    refuse_overwrite(path, overwrite)
 
 
 def _as_matrices(K) -> np.ndarray:

@@ -15,6 +15,24 @@ class DiskFull(RuntimeError):
     """The output's file system filled up during a run; what was finished is kept (see the message)."""
 
 
+class OutputExists(ValueError):
+    """An output exists and replacing it was not asked for. The message names the Python keyword; the
+    command line says ``--overwrite`` instead (:meth:`cli_message`)."""
+
+    def __init__(self, path):
+        self.path = Path(path)
+        super().__init__(f"{self.path} exists; pass overwrite=True to replace it")
+
+    def cli_message(self) -> str:
+        return f"{self.path} exists; pass --overwrite to replace it"
+
+
+def refuse_overwrite(path, overwrite: bool) -> None:
+    """OutputExists unless ``path`` is free or ``overwrite``: nothing replaces a user's file untold."""
+    if Path(path).exists() and not overwrite:
+        raise OutputExists(path)
+
+
 def publish(path: Path, write: Callable[[Path], object]) -> Path:
     """Run ``write(tmp)`` on a temporary name beside ``path``, then rename it onto ``path``.
 

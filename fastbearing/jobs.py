@@ -81,6 +81,7 @@ class Job:
     attrs: dict = field(default_factory=dict)
     solves_per_case: int = 1                 # e.g. cage positions per operating point
     case_word: str = "case"                  # "case" or "point", in the summary and progress bar
+    kernel: str = ""                         # the sweep compute runs, "sweep.map_sweep": to tell of compiling
 
     def bytes_needed(self) -> int:
         return self.cases.n_cases * storage.bytes_per_case(list(self.variables), self.sizes)
@@ -174,13 +175,53 @@ class _Interrupt:
             signal.signal(signal.SIGINT, self._old)
 
 
+class _Progress:
+    """The progress bar, started when the first block is written: its rate and ETA then measure
+    computing, not the one-time compilation before it."""
+
+    def __init__(self, total: int, initial: int, unit: str):
+        self.total, self.done, self.unit = total, initial, unit
+        self.bar = None
+
+    def __call__(self, block) -> None:
+        self.done += block.size
+        if self.bar is None:
+            from tqdm import tqdm
+
+            self.bar = tqdm(total=self.total, initial=self.done, unit=self.unit, unit_scale=True,
+                            dynamic_ncols=True, smoothing=0.1)
+        else:
+            self.bar.update(block.size)
+
+    def close(self) -> None:
+        if self.bar is not None:
+            self.bar.close()
+
+
 def _progress(total: int, initial: int, show, unit: str):
     show = sys.stderr.isatty() if show is None else show
-    if not show:
-        return None
-    from tqdm import tqdm
+    return _Progress(total, initial, unit) if show else None
 
-    return tqdm(total=total, initial=initial, unit=unit, unit_scale=True, dynamic_ncols=True, smoothing=0.1)
+
+#: About how long numba takes to compile a sweep and the solver under it on an empty cache (2 cores,
+#: measured 2026-11-23; see bench/README.md).
+COMPILE_SECONDS = 20
+
+
+def needs_compiling(kernel: str) -> bool:
+    """True when ``kernel`` ("module.function" in fastbearing) is neither compiled in this process nor in
+    numba's on-disk cache, so its first call compiles it (tens of seconds)."""
+    if not kernel:
+        return False
+    import importlib
+
+    from ._cache import cache_folder
+
+    module, name = kernel.rsplit(".", 1)
+    dispatcher = getattr(importlib.import_module(f"fastbearing.{module}"), name, None)
+    if dispatcher is None or getattr(dispatcher, "signatures", None):
+        return False
+    return not any(cache_folder().glob(f"{module}.{name}-*.nbi"))
 
 
 def check_in_flight(max_in_flight, name: str = "max_in_flight") -> int | None:
@@ -238,7 +279,10 @@ def _compute(job: Job, part: Path, out: Path, blocks, threads, progress, client,
     done = pf.done_mask()
     pending = [b for b in blocks if not done[b.index]]
     bar = _progress(job.cases.n_cases, sum(b.size for b in blocks if done[b.index]), progress, job.case_word)
-    on_written = (lambda b: bar.update(b.size)) if bar is not None else None
+    on_written = bar
+    if client is None and pending and needs_compiling(job.kernel):
+        print(f"fastbearing: compiling kernels (one time, about {COMPILE_SECONDS} s; later runs load them from "
+              "the cache)", file=sys.stderr)
     try:
         with _Interrupt() as interrupt:
             if client is None:

@@ -115,7 +115,8 @@ def job(cfg: LoadMapConfig) -> jobs.Job:
         sizes={"dof": 5, "dof_col": 5, "row": cfg.bearing.n_rows},
         compute=partial(compute_block, cfg.bearing, given_load, cfg.cases.line_length, settings),
         settings=settings, method=cfg.method, chunk=cfg.chunk, text=cfg.text, source=cfg.source,
-        fingerprint=cfg.fingerprint, compression=cfg.compression, line_length=cfg.cases.line_length)
+        fingerprint=cfg.fingerprint, compression=cfg.compression, line_length=cfg.cases.line_length,
+        kernel="sweep.map_sweep")
 
 
 def loadmap(config, output=None, *, threads=None, resume=False, overwrite=False, progress=None,

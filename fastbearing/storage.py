@@ -29,6 +29,7 @@ import numpy as np
 
 from . import status as st
 from .dofs import DISPLACEMENT_UNITS, K_UNITS, LOAD_UNITS
+from .files import refuse_overwrite
 
 COMPLETE = "fastbearing_complete"
 COMPRESSIONS = ("none", "lzf", "gzip")
@@ -166,8 +167,8 @@ def prepare_output(out: Path, fingerprint: str, resume: bool, overwrite: bool) -
         if _fingerprint(out) != fingerprint:
             raise ValueError(f"{out} is complete but was made from a different config (or case file); "
                              "--resume continues only the same config: choose another -o, or --overwrite")
-    if out.exists() and not overwrite and not resume:
-        raise ValueError(f"{out} exists; pass --overwrite to replace it")
+    if not resume:
+        refuse_overwrite(out, overwrite)
     return out, part, False
 
 

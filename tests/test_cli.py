@@ -118,3 +118,26 @@ def test_a_displacement_too_large_for_float64_is_refused_or_flagged(tmp_path):
                       "loadmap": {"given": "displacement", "dx": [0.01, 1e300]}}, tmp_path / "d.h5", progress=False)
     status = fb.open_dataset(out)["status"].values
     assert status.tolist() == [st.CONVERGED, st.NONFINITE_RESULT]
+
+
+def test_version_usage_and_overwrite_wording(tmp_path):
+    """--version; no arguments prints the usage; the CLI says --overwrite, Python says overwrite=True."""
+    from conftest import cli_run as cli
+
+    import fastbearing as fb
+
+    v = cli("--version")
+    assert v.returncode == 0 and v.stdout.strip() == f"fastbearing {fb.__version__}"
+    bare = cli()
+    assert bare.returncode == 0 and "usage: fastbearing" in bare.stdout and "loadmap" in bare.stdout
+    assert "%%" not in cli("passage", "--help").stdout
+    plot = cli("plot")
+    assert plot.returncode == 2 and "PICTURE" in plot.stderr
+    cfg = tmp_path / "m.toml"
+    cfg.write_text('[bearing]\npreset = "gunduz2013"\n\n[loadmap]\nFx = [100.0, 200.0]\nFz = 500.0\n')
+    assert cli("loadmap", cfg).returncode == 0
+    again = cli("loadmap", cfg)
+    assert again.returncode == 2 and "m.h5 exists; pass --overwrite to replace it" in again.stderr
+    assert "overwrite=True" not in again.stderr
+    with pytest.raises(ValueError, match="exists; pass overwrite=True"):
+        fb.loadmap(cfg, "m.h5", progress=False)

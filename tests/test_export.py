@@ -60,7 +60,7 @@ def test_ross_arguments_are_si_and_warn_about_dropped_terms(tmp_path):
 
 def test_never_overwrites_and_rejects_bad_input(tmp_path):
     path = ex.write_csv(tmp_path / "k.csv", K)
-    with pytest.raises(ValueError, match="exists; pass --overwrite"):
+    with pytest.raises(ValueError, match="exists; pass overwrite=True"):
         ex.write_csv(path, K)
     ex.write_csv(path, K, overwrite=True)
     with pytest.raises(ValueError, match="K must be 5x5"):

@@ -124,6 +124,25 @@ def test_progress_bar_counts_every_case(tmp_path, kind, capsys):
     assert "% converged" in err.splitlines()[-1]
 
 
+def test_compiling_is_announced_only_when_it_will_happen(tmp_path, monkeypatch, capsys):
+    """An empty cache: one line says the kernels compile once; a compiled or cached kernel: silence."""
+    from numba import njit
+
+    from fastbearing import _cache, sweep
+
+    monkeypatch.setattr(_cache, "cache_folder", lambda: tmp_path)      # an empty cache
+    monkeypatch.setattr(sweep, "never_called", njit(lambda: 1), raising=False)
+    assert jobs.needs_compiling("sweep.never_called")
+    sweep.never_called()
+    assert not jobs.needs_compiling("sweep.never_called")          # compiled in this process
+    monkeypatch.undo()
+    fb.loadmap(MAP, tmp_path / "a.h5", progress=False)
+    assert not jobs.needs_compiling("sweep.map_sweep") and "compiling" not in capsys.readouterr().err
+    monkeypatch.setattr(jobs, "needs_compiling", lambda kernel: kernel == "sweep.map_sweep")
+    fb.loadmap(MAP, tmp_path / "b.h5", progress=False)
+    assert f"compiling kernels (one time, about {jobs.COMPILE_SECONDS} s" in capsys.readouterr().err
+
+
 def test_one_description_of_the_variables_allocates_and_writes(tmp_path):
     """The arrays the runner allocates are exactly the datasets the file holds (names, shapes, dtypes)."""
     for config, module, run in KINDS.values():

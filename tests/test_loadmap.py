@@ -259,7 +259,7 @@ def test_never_overwrites_without_being_told(tmp_path):
     cfg = config(tmp_path, SMALL)
     out = loadmap(cfg, progress=False)
     stamp = out.stat().st_mtime_ns
-    with pytest.raises(ValueError, match="exists; pass --overwrite"):
+    with pytest.raises(ValueError, match="exists; pass overwrite=True"):
         loadmap(cfg, progress=False)
     assert out.stat().st_mtime_ns == stamp
     loadmap(cfg, overwrite=True, progress=False)
