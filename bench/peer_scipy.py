@@ -2,10 +2,10 @@
 
 scipy.optimize.root(method="hybr") (MINPACK's Powell hybrid method) with the
 analytic Jacobian, and the residual f(q) - f_target vectorised over balls
-with numpy. Same physics as fastbearing (MODEL.md), written independently
-from the ball table. This is a speed baseline, not a correctness reference;
-the benchmark checks that its answers agree with fastbearing's.
-Units: N, mm, rad.
+with numpy. Same physics as fastbearing (docs/model.md, "Per ball (row r,
+ball j at azimuth psi)"), written independently from the ball table. This is
+a speed baseline, not a correctness reference; the benchmark checks that its
+answers agree with fastbearing's. Units: N, mm, rad.
 """
 
 import numpy as np

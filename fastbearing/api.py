@@ -204,7 +204,23 @@ def solve(bearing: Bearing, f, q0=None, method: str = "newton", rtol=None, max_i
     Returns
     -------
     SolveResult
-        Never raises on non-convergence: check ``result.converged``.
+        ``q`` (5,) in mm and rad, ``f`` (5,) the load reached at q in N and
+        N*mm, ``K`` (5, 5) Kb at q in N/mm, N*mm/rad, N/rad, ``status``,
+        ``iterations``, ``residual`` (relative) and ``evaluations``. Check
+        ``result.converged`` (or ``status_name``) before using q and K.
+
+    Raises
+    ------
+    ValueError
+        Bad input, before any kernel runs; the message names the field and
+        its allowed range: ``bearing`` not a :class:`Bearing`; ``f`` or
+        ``q0`` not 5 finite numbers (strings, booleans and complex values
+        are refused, not converted); ``method`` not "newton" or "broyden";
+        ``rtol`` outside [1e-14, 1e-3]; ``max_iter`` not an integer in
+        [1, 10000]. Non-convergence is never raised: it is reported in
+        ``status`` (iteration_limit, singular, stalled, precision_limit,
+        nonfinite_result ..., see :mod:`fastbearing.status`), with
+        ``result.converged`` False.
     """
     bearing = _check_bearing(bearing)
     f_target = _as_vector(f, "f", "Fx, Fy, Fz in N; Mx, My in N*mm")
@@ -271,7 +287,20 @@ def solve_many(bearing: Bearing, f, q0=None, method: str = "newton", rtol=None, 
     threads : int, optional
         Numba threads for this call (default: NUMBA_NUM_THREADS).
 
+    ``bearing``, ``method``, ``rtol`` and ``max_iter`` are as in :func:`solve`.
     Results do not depend on the thread count.
+
+    Returns
+    -------
+    SolveManyResult
+        Arrays over the N cases, in the order of ``f``: ``q`` (N, 5) in mm
+        and rad; ``f`` (N, 5) the load reached at q in N and N*mm; ``K``
+        (N, 5, 5) Kb in N/mm, N*mm/rad, N/rad; ``status`` (N,) int8 codes of
+        :mod:`fastbearing.status`; ``iterations`` (N,) int32; ``residual``
+        (N,) relative; ``evaluations`` (N,) int32 kernel calls; and
+        ``converged`` (N,) bool. A case that does not converge is reported
+        in ``status``, never raised; bad input raises ValueError as in
+        :func:`solve` (and when ``q0`` has another number of cases than ``f``).
     """
     bearing = _check_bearing(bearing)
     f_targets = as_cases(f, "f", "Fx, Fy, Fz in N; Mx, My in N*mm")

@@ -51,7 +51,7 @@ def _check_finite(name: str, value) -> float:
 
 @dataclass(frozen=True)
 class Row:
-    """One row of balls (MODEL.md, "A bearing is a set of rows").
+    """One row of balls (docs/model.md, "A bearing is a set of rows on one rigid inner ring").
 
     Parameters
     ----------
@@ -144,8 +144,9 @@ class Row:
                           self.groove_center_distance * math.cos(a0) - self.radial_clearance)
 
     def _check_clearance_and_preload(self) -> None:
-        """Keep the groove centres where the model holds (MODEL.md): on their own sides, and a preload
-        (negative clearance, axial preload) that deflects each ball by at most 10 % of A0."""
+        """Keep the groove centres where the model holds (docs/model.md, "Per ball (row r, ball j at azimuth psi)"):
+        on their own sides, and a preload (negative clearance, axial preload) that deflects each ball by at
+        most 10 % of A0."""
         A0, a0 = self.groove_center_distance, math.radians(self.contact_angle)
         rL, d0 = self.radial_clearance, self.axial_preload
         radial, axial = A0 * math.cos(a0), A0 * math.sin(a0)
@@ -180,6 +181,42 @@ class Bearing:
     in mm and rad, measured at the bearing centre. Build one with
     :meth:`single`, :meth:`double`, :meth:`from_rows`, :meth:`preset` or
     :func:`fastbearing.load_bearing`.
+
+    Arrangements (``ARRANGEMENTS``; double rows at z = -e and +e, contact
+    directions c3 of the two rows in brackets; docs/model.md, "A bearing is a
+    set of rows on one rigid inner ring"):
+
+    ``"single"``
+        One row at the bearing centre (z = 0).
+    ``"DB"``
+        Back-to-back ("O"), (+1, -1): the load lines meet outside the
+        bearing; the stiffest in tilt.
+    ``"DF"``
+        Face-to-face ("X"), (-1, +1): the load lines meet towards the bore;
+        the softest in tilt.
+    ``"DT"``
+        Tandem, (+1, +1): parallel load lines; both rows carry Fz > 0 (an
+        Fz < 0 turns their contacts round: status warning contact_reversed).
+
+    A bearing built from rows of your own (:meth:`from_rows`: duplex,
+    triplex, quadruplex sets) has ``arrangement == "custom"``.
+
+    Presets (:meth:`preset`; :func:`fastbearing.preset_names` lists them,
+    the tables are in fastbearing/presets/):
+
+    ``"gunduz2013"``
+        The example double-row bearing of Gunduz & Singh (2013), Table 1:
+        Z = 14 per row, Kn = 395 000 N/mm^1.5, R = 34.75 mm, A0 = 0.52 mm,
+        e = 10 mm, a0 = 30 deg, no clearance or preload; DB unless another
+        arrangement is given.
+
+    Bearing files in the repository's data/bearings/ (read them with
+    :func:`fastbearing.load_bearing`): gunduz2013.toml (the preset as a
+    file); 6305.toml (a single-row deep-groove bearing) and 3206.toml,
+    3208.toml, 3210.toml, 3306.toml, 3310.toml (SKF double-row angular
+    contact bearings, 30 deg, DB), given by catalogue geometry
+    (:class:`fastbearing.Geometry`); each file says which internal
+    dimensions are published and which are estimated or assumed.
     """
 
     rows: tuple[Row, ...]
@@ -210,7 +247,8 @@ class Bearing:
         Parameters
         ----------
         arrangement : {"DB", "DF", "DT"}
-            Back-to-back, face-to-face or tandem (MODEL.md table).
+            Back-to-back, face-to-face or tandem (docs/model.md, "A bearing is a set of rows on one
+            rigid inner ring").
         row_offset : float
             e, half the row spacing in mm, >= 0.
         axial_preload : float or pair of float

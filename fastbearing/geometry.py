@@ -3,7 +3,8 @@
 Engineers know a bearing's dimensions, not its Hertz constant. This module
 turns ball diameter D, pitch diameter dm, groove curvature ratios fi and fo,
 contact angle a0, diametral clearance Pd, row spacing and the materials into
-the model parameters of :class:`fastbearing.Row` (MODEL.md, last section):
+the model parameters of :class:`fastbearing.Row` (docs/model.md, "Hertz constant from geometry (for bearings
+given by catalogue dimensions)"):
 
     A0 = (fi + fo - 1) * D                      groove-centre distance, mm
     R  = dm/2 + (fi - 0.5) * D * cos(a0)        inner groove-centre radius, mm
@@ -54,7 +55,8 @@ from .bearing import PRELOAD_DEFLECTION_LIMIT, Bearing, _check_finite, free_cont
 
 ELLIPTICITY_METHODS = ("exact", "hamrock-brewe")
 
-#: Contact-direction coefficient c2 of the load-centre spread E = 2(e + c2 R tan a0) (MODEL.md).
+#: Contact-direction coefficient c2 of the load-centre spread E = 2(e + c2 R tan a0)
+#: (docs/model.md, "A bearing is a set of rows on one rigid inner ring")
 _SPREAD_SIGN = {"DB": 1, "DF": -1, "DT": 0}
 
 
@@ -328,7 +330,8 @@ class Geometry:
 
     Notes
     -----
-    Derived model parameters (MODEL.md): ``groove_center_distance``
+    Derived model parameters (docs/model.md, "Hertz constant from geometry (for bearings given by
+    catalogue dimensions)"): ``groove_center_distance``
     A0 = (fi + fo - 1) D; ``pitch_radius`` R = dm/2 + (fi - 0.5) D cos(a0):
     the inner groove's cross-section circle (radius fi D) touches the ball
     at the inner contact point, which lies D/2 inside the ball centre (at
@@ -392,7 +395,8 @@ class Geometry:
                 raise v.FieldError(name, "must be a fastbearing.Material", getattr(self, name))
         v.choice(self.ellipticity, "ellipticity", ELLIPTICITY_METHODS)
 
-    # -- derived model parameters (MODEL.md) -------------------------------------------
+    # -- derived model parameters ------------------------------------------------------
+    # (docs/model.md, "Hertz constant from geometry (for bearings given by catalogue dimensions)")
     @property
     def groove_center_distance(self) -> float:
         """A0 = (fi + fo - 1) D in mm."""
@@ -489,7 +493,8 @@ class Geometry:
 
 
 def load_centre_spread(arrangement: str, row_offset: float, pitch_radius: float, contact_angle: float) -> float:
-    """E = 2 (e + c2 R tan a0) in mm, c2 = +1 DB, -1 DF, 0 DT (paper, MODEL.md); a0 in rad."""
+    """E = 2 (e + c2 R tan a0) in mm, c2 = +1 DB, -1 DF, 0 DT (paper Eq. 6; docs/model.md,
+    "A bearing is a set of rows on one rigid inner ring"); a0 in rad."""
     return 2.0 * (row_offset + _SPREAD_SIGN[arrangement] * pitch_radius * math.tan(contact_angle))
 
 

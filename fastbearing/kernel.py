@@ -67,13 +67,15 @@ def _contact_law(delta, kn, exponent, j):
 def ball_loop(q, balls, f, K, ball_load, contact_angle):
     """Fill f (5) and, unless ``K`` is None, Kb (5x5) in place at displacement q.
 
-    Per ball (MODEL.md): radial and axial approach of the groove centres, the
-    loaded distance A = sqrt(ur^2 + uz^2), Hertz deflection delta = A - A0
-    (evaluated as (A^2 - A0^2)/(A + A0), free of cancellation),
-    ball load Q = Kn*delta^n. The ball adds Q*(ur*a + uz*b)/A to f and
-    J^T H J to Kb, with J = [a; b] = d(ur, uz)/dq and the 2x2 contact
-    Hessian H = (Q/A)(I - h h^T) + Q' h h^T, h = (ur, uz)/A, Q' = dQ/d(delta).
-    This compact form equals the paper's Eq. (15a-o) without dividing by ur.
+    Per ball (docs/model.md, "Per ball (row r, ball j at azimuth psi)"):
+    radial and axial approach of the groove centres, the loaded distance
+    A = sqrt(ur^2 + uz^2), Hertz deflection delta = A - A0 (evaluated as
+    (A^2 - A0^2)/(A + A0), free of cancellation), ball load Q = Kn*delta^n.
+    The ball adds Q*(ur*a + uz*b)/A to f and J^T H J to Kb, with
+    J = [a; b] = d(ur, uz)/dq and the 2x2 contact Hessian
+    H = (Q/A)(I - h h^T) + Q' h h^T, h = (ur, uz)/A, Q' = dQ/d(delta).
+    This compact form equals the paper's Eq. (15a-o) without dividing by ur
+    (docs/model.md, "Stiffness matrix Kb = df/dq (paper Eq. 14-15)").
 
     Parameters
     ----------

@@ -255,6 +255,27 @@ def passage(config, output=None, *, threads=None, resume=False, overwrite=False,
         Run the blocks on a Dask cluster; the output is identical to a local run.
     max_in_flight : int, optional
         With ``client``: blocks out on the cluster at once (default: 2 per worker thread).
+
+    Returns
+    -------
+    pathlib.Path or xarray.Dataset
+        The absolute path of the finished HDF5 file (netCDF4-compatible), or
+        with ``as_dataset`` that file opened as an ``xarray.Dataset``. Its
+        case dimensions (written ``...`` below) are ``point`` for
+        ``points``, or one per grid axis (e.g. ``dx``, ``dz``); then
+        ``position`` (cage positions in one period), ``harmonic``, ``row``
+        and ``dof``, ``dof_col`` (5 each). Per case and position: ``q``
+        (..., position, 5) in mm and rad, ``f`` (..., position, 5) in N and
+        N*mm, ``K`` (..., position, 5, 5) in N/mm, N*mm/rad, N/rad,
+        ``status``, ``iterations``, ``residual`` (..., position), and per
+        row ``max_ball_load`` (N), ``loaded_balls``, ``min_contact_angle``
+        and ``max_contact_angle`` (rad) (..., position, row). Per case over
+        the period: ``K_mean``, ``K_min``, ``K_max`` (..., 5, 5) in Kb's
+        units, ``K_variation`` (..., 5, 5) in %, ``K_amplitude`` (...,
+        harmonic, 5, 5) in Kb's units and ``K_phase`` in rad. Coordinates:
+        ``cage_angle`` (position) in rad and, with a shaft speed, ``time``
+        (position) in s and ``frequency`` (harmonic) in Hz. With
+        ``csv_files`` the CSV files are written beside it.
     """
     cfg = config if isinstance(config, PassageConfig) else read_config(config)
     if as_dataset:

@@ -3,11 +3,11 @@
 A rigid shaft moves by Q = (dx, dy, dz, bx, by) at a reference point z_ref
 (mm, rad). A point at axial position z moves by T(d) Q with d = z - z_ref
 and T(d) = [dx + d*by, dy - d*bx, dz, bx, by]: the same rigid-body map that
-makes a double row the sum of its rows (MODEL.md). So a shaft on several
-bearings *is* one bearing whose rows are all the bearings' rows moved by
-their bearing's d; the one kernel and solver give Q and the system
-stiffness K_system = sum_i T_i^T K_i T_i at z_ref directly. Units: N, mm,
-rad; masses in kg and inertias in kg*mm^2 (converted to t and t*mm^2 for
+makes a double row the sum of its rows (docs/model.md, "Checks"). So a
+shaft on several bearings *is* one bearing whose rows are all the bearings'
+rows moved by their bearing's d; the one kernel and solver give Q and the
+system stiffness K_system = sum_i T_i^T K_i T_i at z_ref directly. Units: N,
+mm, rad; masses in kg and inertias in kg*mm^2 (converted to t and t*mm^2 for
 the N-mm-s system).
 """
 

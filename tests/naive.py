@@ -4,8 +4,9 @@ Written straight from the PRINTED equations of Gunduz & Singh (2013),
 J. Sound Vib. 332, 5898-5916: Eqs. (3), (4a,b), (7a,b), (9)-(11) per ball,
 Eq. (12) for the load vector and Eqs. (15a)-(15o) for the stiffness matrix,
 ball by ball, in plain Python + math (numpy only to build the output arrays).
-It deliberately does NOT use the compact J^T H J form of MODEL.md, so the two
-can be checked against each other.
+It deliberately does NOT use the compact J^T H J form (docs/model.md,
+"Stiffness matrix Kb = df/dq (paper Eq. 14-15)"), so the two can be checked
+against each other.
 
 Notation (per ball): dr, dz  Eq. (4a,b); dnr = ur, dnz = uz  Eq. (7a,b);
 A  Eq. (9); delta = A - A0  Eq. (3); Q = Kn delta^n  Eq. (10);
@@ -19,7 +20,8 @@ a0 in 5-80 deg, clearance or preload (rL = 0) or neither, n = 1.5 or
 U(1.1, 2), random small q loading some balls.  With the fixes below the worst
 error is 1.3e-7 relative to sqrt(|K_ii K_jj|) (1.7e-6 relative to the entry
 itself for entries above 1e-3 of that scale): finite-difference noise.
-Results also agree with the compact J^T H J form of MODEL.md to ~1e-16.
+Results also agree with the compact J^T H J form (docs/model.md, "Stiffness
+matrix Kb = df/dq (paper Eq. 14-15)") to ~1e-16.
 As printed, the entries listed below fail in every case where they can
 (15d,e,h,i whenever a loaded row has z_r != 0; 15g, 15l always):
 
@@ -49,10 +51,11 @@ dnz*dnr (e.g. -uz^3/ur + A^2 uz/ur = uz*ur), but as printed they divide by
 ur = dr + A0*cos(a0), which -> 0 as a0 -> 90 deg (pure thrust contact) and
 for balls whose radial approach cancels A0*cos(a0).  This is the origin of
 the "numerical issues around a0 = 90 deg" the paper mentions; the compact
-form in MODEL.md has no such division.  This reference keeps the printed
-division (it is the point of the reference): a loaded ball with ur == 0
-exactly raises ZeroDivisionError, and for z_r != 0 cancellation costs
-accuracy as ur -> 0 (seen: ~1e-8 relative at ur = 1e-12 mm).
+form (docs/model.md, "Stiffness matrix Kb = df/dq (paper Eq. 14-15)") has no
+such division.  This reference keeps the printed division (it is the point of
+the reference): a loaded ball with ur == 0 exactly raises ZeroDivisionError,
+and for z_r != 0 cancellation costs accuracy as ur -> 0 (seen: ~1e-8 relative
+at ur = 1e-12 mm).
 
 Note for the test-suite: with rL = 0, d0 = 0 the model is NOT exactly
 homogeneous in q (A = |u0 + J q| with |u0| = A0, so delta = A - A0 is only

@@ -1,5 +1,5 @@
 """The physics kernel against the paper's printed equations and against
-invariants that must hold for any displacement (MODEL.md, "Checks")."""
+invariants that must hold for any displacement (docs/model.md, "Checks")."""
 
 import math
 
@@ -97,8 +97,8 @@ def test_geometric_homogeneity(rng):
 def test_small_displacement_limit_kq_equals_nf():
     """Without clearance and preload, Kb q -> n f as q -> 0 (first order in |q|/A0).
 
-    MODEL.md states this as exact; it is not: delta = |u0 + J q| - A0 is
-    linear in q only to first order, so the defect shrinks with |q|.
+    It is a limit, not an identity (docs/model.md, "Checks"): delta = |u0 + J q| - A0
+    is linear in q only to first order, so the defect shrinks with |q|.
     """
     bearing = fb.Bearing.preset("gunduz2013", "DB")
     direction = np.array([0.4, -0.2, 1.0, 1e-3, 2e-3])
@@ -178,8 +178,8 @@ def test_fig12_coupling_signs():
     For the single row and DT kx_thy < 0 < ky_thx (the paper's "ky_thx = -kx_thy"
     holds in sign, not in size, once the load zone is off-centre). For DB and
     DF mirror symmetry about the bearing centre makes kxz, kx_thy and ky_thx
-    exactly zero (MODEL.md notes this for kxz; the paper's Fig. 12 claims
-    otherwise and is not reproduced).
+    exactly zero (docs/model.md, "Where the paper is wrong": the paper's Fig. 12
+    claims otherwise for kxz and is not reproduced).
     """
     for a in ("single", "DB", "DF", "DT"):
         K = fb.stiffness(fb.Bearing.preset("gunduz2013", a), [0.05, 0, 0, 0, 0])[1]

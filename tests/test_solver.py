@@ -38,7 +38,8 @@ def test_paper_tables_3_and_4(key, method):
     assert result.converged, result.status_name
     assert_round_trip(bearing, PAPER_LOADS[table], result)
     # Table 3 DF: the printed equations' single solution lies 3-7 % above the
-    # paper's kxx, kyy, kzz (MODEL.md); tested at 8 %, nothing tuned to it.
+    # paper's kxx, kyy, kzz (docs/model.md, "Reference values from the paper");
+    # tested at 8 %, nothing tuned to it.
     tol = 0.08 if key == ("DF", "table3") else 0.02
     np.testing.assert_allclose(np.diag(result.K) / KILO, PAPER_MODEL[key], rtol=tol)
 
