@@ -25,8 +25,9 @@ ARRANGEMENTS = ("single", "DB", "DF", "DT")
 _DOUBLE_ROW_DIRECTIONS = {"DB": (1, -1), "DF": (-1, 1), "DT": (1, 1)}
 
 # Rows of the per-ball table the kernel reads (column j is ball j; rows are quantities).
-COS_PSI, SIN_PSI, AXIAL_OFFSET, PITCH_RADIUS, UR0, UZ0, A0, KN, EXPONENT, ROW, DIRECTION, GAP2 = range(12)
-N_BALL_COLUMNS = 12
+(COS_PSI, SIN_PSI, AXIAL_OFFSET, PITCH_RADIUS, UR0, UZ0, A0, KN, EXPONENT, ROW, DIRECTION, GAP2,
+ DEFLECTION_LIMIT) = range(13)
+N_BALL_COLUMNS = 13
 
 
 #: Most balls a row may have (a sanity bound: real bearings have a few dozen).
@@ -34,6 +35,10 @@ MAX_BALLS = 10_000
 #: Largest unloaded ball deflection a preload may set, as a fraction of A0: beyond it the contact is
 #: no longer a small elastic one (A0 is about 5 % of the ball diameter).
 PRELOAD_DEFLECTION_LIMIT = 0.1
+#: Default validity limit of a ball's deflection without a geometry, as a fraction of A0: where steel
+#: balls in grooves of the usual ratios (0.52, 0.53) reach a Hertz pressure of about 4200 N/mm^2
+#: (6305: 0.145 A0; the SKF 32xx/33xx files: 0.16-0.17 A0).
+VALIDITY_DEFLECTION = 0.15
 
 
 def free_contact_angle(groove_center_distance: float, contact_angle: float, radial_clearance: float) -> float:
@@ -84,6 +89,13 @@ class Row:
         deflection at most 10 % of A0.
     first_ball_angle : float
         psi0, azimuth of the row's first ball in degrees.
+    deflection_limit : float or None
+        Largest ball deflection in mm for which the model (small elastic
+        contacts) is taken as valid; a solution beyond it is flagged with
+        the status warning ``beyond_validity``. None: 0.15 A0
+        (VALIDITY_DEFLECTION), or for a row from catalogue geometry the
+        deflection at which the Hertz pressure reaches the geometry's
+        ``contact_pressure_limit`` (4200 N/mm^2 by default). > 0.
     """
 
     n_balls: int
@@ -97,6 +109,7 @@ class Row:
     radial_clearance: float = 0.0
     axial_preload: float = 0.0
     first_ball_angle: float = 0.0
+    deflection_limit: float | None = None
 
     def __post_init__(self):
         v = validate
@@ -117,7 +130,17 @@ class Row:
             set_(self, name, v.number(getattr(self, name), name))
         set_(self, "radial_clearance", v.number(self.radial_clearance, "radial_clearance", units="mm"))
         set_(self, "axial_preload", v.number(self.axial_preload, "axial_preload", units="mm"))
+        if self.deflection_limit is not None:
+            set_(self, "deflection_limit", v.number(self.deflection_limit, "deflection_limit", low=0, low_open=True,
+                                                    units="mm"))
         self._check_clearance_and_preload()
+
+    @property
+    def validity_deflection(self) -> float:
+        """The ball deflection in mm beyond which a solution is flagged ``beyond_validity``."""
+        if self.deflection_limit is not None:
+            return self.deflection_limit
+        return VALIDITY_DEFLECTION * self.groove_center_distance
 
     @property
     def free_contact_angle(self) -> float:
@@ -356,7 +379,7 @@ class Bearing:
         return replace(self, rows=tuple(replace(r, **changes) for r in self.rows))
 
     def ball_table(self, cage_angle: float = 0.0) -> np.ndarray:
-        """Per-ball float64 table (12, n_balls), one row per quantity (see the column constants).
+        """Per-ball float64 table (13, n_balls), one row per quantity (see the column constants).
 
         Column-major so the kernel reads each quantity contiguously and can
         vectorise over balls. ``cage_angle`` (rad) rotates every ball of every
@@ -404,6 +427,7 @@ class Bearing:
             table[EXPONENT, sl] = r.exponent
             table[ROW, sl] = i
             table[DIRECTION, sl] = r.contact_direction
+            table[DEFLECTION_LIMIT, sl] = r.validity_deflection
             # ur0^2 + uz0^2 - A0^2 in closed form (exactly 0 without clearance and preload),
             # so the kernel gets A^2 - A0^2 without cancellation
             rl, d0 = r.radial_clearance, r.axial_preload
@@ -427,13 +451,14 @@ class Bearing:
     def to_dict(self) -> dict:
         """The bearing as a ``[bearing]`` table with explicit ``rows`` (round-trips through TOML)."""
         return {"name": self.name, "arrangement": self.arrangement,
-                "rows": [{f.name: getattr(r, f.name) for f in fields(Row)} for r in self.rows]}
+                "rows": [{f.name: getattr(r, f.name) for f in fields(Row) if getattr(r, f.name) is not None}
+                         for r in self.rows]}
 
 
 ROW_KEYS = tuple(f.name for f in fields(Row))
 #: Row keys a compact [bearing] table shares between its rows.
 SHARED_ROW_KEYS = ("n_balls", "hertz_constant", "pitch_radius", "groove_center_distance", "contact_angle", "exponent",
-                   "radial_clearance", "first_ball_angle")
+                   "radial_clearance", "first_ball_angle", "deflection_limit")
 _COMPACT_KEYS = set(SHARED_ROW_KEYS) | {"arrangement", "row_offset", "axial_preload", "name"}
 
 

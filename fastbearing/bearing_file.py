@@ -20,7 +20,7 @@ from .geometry import geometry_from_table
 _TABLE_KEYS = set(SHARED_ROW_KEYS) | {"arrangement", "row_offset", "axial_preload", "preset", "name", "rows", "geometry"}
 #: Keys a [bearing.geometry] table derives; giving them in [bearing] too would be ambiguous.
 _GEOMETRY_DERIVED = ("n_balls", "hertz_constant", "pitch_radius", "groove_center_distance", "contact_angle",
-                     "exponent", "radial_clearance", "row_offset")
+                     "exponent", "radial_clearance", "row_offset", "deflection_limit")
 #: Row keys that stay per row when the rows share one geometry.
 _GEOMETRY_ROW_KEYS = ("axial_offset", "contact_direction", "axial_preload", "first_ball_angle")
 

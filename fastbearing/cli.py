@@ -477,7 +477,8 @@ def _bearing_report(bearing) -> dict:
                      "radial_clearance": r.radial_clearance, "contact_angle_deg": r.contact_angle,
                      "free_contact_angle": af, "free_contact_angle_deg": math.degrees(af),
                      "axial_preload": r.axial_preload, "rest_deflection": r.rest_deflection,
-                     "rest_contact_angle_deg": math.degrees(r.rest_contact_angle)})
+                     "rest_contact_angle_deg": math.degrees(r.rest_contact_angle),
+                     "deflection_limit": r.validity_deflection})
     out = {"name": bearing.name, "arrangement": bearing.arrangement, "rows": rows}
     if bearing.arrangement in ("DB", "DF", "DT"):
         r = bearing.rows[1]
@@ -492,7 +493,7 @@ def _bearing_report(bearing) -> dict:
             "contact_angle_deg": g.contact_angle, "diametral_clearance": g.diametral_clearance,
             "row_spacing": g.row_spacing, "ellipticity_method": g.ellipticity,
             "ball_material": vars(g.ball_material), "ring_material": vars(g.ring_material),
-            "reduced_modulus": g.reduced_modulus,
+            "reduced_modulus": g.reduced_modulus, "contact_pressure_limit": g.contact_pressure_limit,
             "contacts": {side: {"hertz_constant": c.constant, "ellipticity": c.ellipticity,
                                 "curvature_sum": c.curvature_sum, "curvature_ratio": max(c.curvature_x, c.curvature_y)
                                 / min(c.curvature_x, c.curvature_y)}
@@ -534,7 +535,10 @@ def _bearing_text(rep: dict, bearing) -> str:
                   f"    radial clearance           rL = {r['radial_clearance']:.6g} mm",
                   f"    contact angle              a0 = {r['contact_angle_deg']:.6g} deg",
                   f"    free contact angle         af = {r['free_contact_angle_deg']:.6g} deg "
-                  f"({r['free_contact_angle']:.6g} rad)"]
+                  f"({r['free_contact_angle']:.6g} rad)",
+                  f"    validity: ball deflection <= {r['deflection_limit']:.6g} mm "
+                  + (f"(Hertz pressure {g['contact_pressure_limit']:g} N/mm^2)" if g is not None
+                     else f"({r['deflection_limit'] / r['groove_center_distance']:.3g} A0)")]
         if r["axial_preload"]:
             lines.append(f"    axial preload              d0 = {r['axial_preload']:.6g} mm")
         if r["rest_deflection"] > 0:
@@ -583,6 +587,10 @@ def _table(result: dict) -> str:
              "      " + "".join(f"{name:>14s}" for name in labels)]
     for name, row in zip(labels, K):
         lines.append(f"{name:>4s}  " + "".join(f"{v:14.6g}" for v in row))
+    if "beyond_validity" in str(result["status"]):
+        lines.append("warning: beyond_validity: a ball's deflection exceeds its row's validity limit (the Hertz "
+                     "pressure limit, 4200 N/mm^2 by default, or 0.15 A0); the equations are solved, but small "
+                     "elastic contacts no longer describe this bearing")
     return "\n".join(lines)
 
 

@@ -54,6 +54,9 @@ from . import validate
 from .bearing import PRELOAD_DEFLECTION_LIMIT, Bearing, _check_finite, free_contact_angle
 
 ELLIPTICITY_METHODS = ("exact", "hamrock-brewe")
+#: Default validity limit of the Hertz contact pressure, N/mm^2: the usual static limit of ball bearings
+#: (ISO 76 bases C0 on 4200 N/mm^2 at the most loaded contact of radial ball bearings).
+CONTACT_PRESSURE_LIMIT = 4200.0
 
 #: Contact-direction coefficient c2 of the load-centre spread E = 2(e + c2 R tan a0)
 #: (docs/model.md, "A bearing is a set of rows on one rigid inner ring")
@@ -327,6 +330,12 @@ class Geometry:
         Steel (E = 208 000 N/mm^2, nu = 0.3) by default.
     ellipticity : {"exact", "hamrock-brewe"}
         Route to the contact ellipticity (:func:`ellipticity`).
+    contact_pressure_limit : float
+        Largest Hertz contact pressure in N/mm^2 for which a solution is
+        taken as valid (default 4200, the usual static limit of ball
+        bearings, ISO 76); the rows' ``deflection_limit`` is the ball
+        deflection at which the more loaded race contact reaches it at a0.
+        > 0.
 
     Notes
     -----
@@ -354,6 +363,7 @@ class Geometry:
     ball_material: Material = STEEL
     ring_material: Material = STEEL
     ellipticity: str = "exact"
+    contact_pressure_limit: float = CONTACT_PRESSURE_LIMIT
 
     def __post_init__(self):
         v = validate
@@ -394,6 +404,8 @@ class Geometry:
             if not isinstance(getattr(self, name), Material):
                 raise v.FieldError(name, "must be a fastbearing.Material", getattr(self, name))
         v.choice(self.ellipticity, "ellipticity", ELLIPTICITY_METHODS)
+        set_(self, "contact_pressure_limit", v.number(self.contact_pressure_limit, "contact_pressure_limit", low=0,
+                                                      low_open=True, units="N/mm^2"))
 
     # -- derived model parameters ------------------------------------------------------
     # (docs/model.md, "Hertz constant from geometry (for bearings given by catalogue dimensions)")
@@ -451,11 +463,21 @@ class Geometry:
             return None
         return load_centre_spread(arrangement, self.row_offset, self.pitch_radius, math.radians(self.contact_angle))
 
+    @property
+    def deflection_limit(self) -> float:
+        """The ball deflection in mm (inner and outer contacts in series) at which the more loaded race
+        contact reaches ``contact_pressure_limit`` at a0: p_max grows as Q^(1/3), so the limit load is
+        Q = (p_limit / p_max(1 N))^3 and the deflection (Q/Kn)^(2/3)."""
+        inner, outer = self.contacts()
+        per_newton = max(inner.max_pressure(1.0), outer.max_pressure(1.0))
+        load = (self.contact_pressure_limit / per_newton) ** 3
+        return (load / self.hertz_constant) ** (2.0 / 3.0)
+
     def row_keywords(self) -> dict:
         """The :class:`fastbearing.Row` keywords this geometry fixes (angles in degrees, as Row takes them)."""
         return dict(n_balls=self.n_balls, hertz_constant=self.hertz_constant, pitch_radius=self.pitch_radius,
                     groove_center_distance=self.groove_center_distance, contact_angle=self.contact_angle,
-                    exponent=1.5, radial_clearance=self.radial_clearance)
+                    exponent=1.5, radial_clearance=self.radial_clearance, deflection_limit=self.deflection_limit)
 
     def bearing(self, arrangement: str = "single", *, name: str = "", axial_preload=0.0,
                 first_ball_angle: float = 0.0) -> Bearing:
@@ -502,7 +524,7 @@ def load_centre_spread(arrangement: str, row_offset: float, pitch_radius: float,
 GEOMETRY_KEYS = ("n_balls", "ball_diameter", "pitch_diameter", "inner_groove_ratio", "outer_groove_ratio",
                  "contact_angle", "diametral_clearance", "row_spacing", "youngs_modulus", "poisson_ratio",
                  "ball_youngs_modulus", "ring_youngs_modulus", "ball_poisson_ratio", "ring_poisson_ratio",
-                 "material", "ellipticity")
+                 "material", "ellipticity", "contact_pressure_limit")
 _REQUIRED = ("n_balls", "ball_diameter", "pitch_diameter", "inner_groove_ratio", "outer_groove_ratio")
 
 
@@ -545,8 +567,8 @@ def geometry_from_table(table: dict, where: str = "bearing.geometry") -> Geometr
     """
     validate.table(table, where, GEOMETRY_KEYS, _REQUIRED)
     ball, ring = _material_values(table, where)
-    values = {k: table[k] for k in _REQUIRED + ("contact_angle", "diametral_clearance", "row_spacing", "ellipticity")
-              if k in table}
+    values = {k: table[k] for k in _REQUIRED + ("contact_angle", "diametral_clearance", "row_spacing", "ellipticity",
+                                                "contact_pressure_limit") if k in table}
     try:
         return Geometry(**values, ball_material=ball, ring_material=ring)
     except validate.FieldError as err:

@@ -19,6 +19,7 @@ from numba import njit, types
 from numba.extending import overload
 
 from .config import CACHE, ERROR_MODEL, KERNEL_FASTMATH
+from .status import BEYOND_VALIDITY, CONTACT_REVERSED
 
 
 def contact_law(delta, kn, exponent, j):
@@ -82,7 +83,7 @@ def ball_loop(q, balls, f, K, ball_load, contact_angle):
     q : (5,) float64
         (dx, dy, dz, bx, by) in mm and rad at the bearing centre.
     balls : tuple (table, exponent, smoothing)
-        ``table`` (12, n_balls) float64, column-major per-ball data from
+        ``table`` (13, n_balls) float64, column-major per-ball data from
         :meth:`fastbearing.Bearing.ball_set`; ``exponent`` None (all balls
         n = 1.5) or (n_balls,) float64 per-ball exponents; ``smoothing``
         None (the exact contact law) or eps in mm (see
@@ -101,9 +102,11 @@ def ball_loop(q, balls, f, K, ball_load, contact_angle):
         Sum of ball loads in N (0 when no ball is loaded).
     n_loaded : int
         Number of loaded balls.
-    n_reversed : int
-        Loaded balls whose contact angle has the opposite sign to their
-        row's contact direction.
+    warnings : int
+        Status warning bits (status.py): CONTACT_REVERSED when a loaded
+        ball's contact angle has the opposite sign to its row's contact
+        direction, BEYOND_VALIDITY when a ball's deflection exceeds its
+        row's deflection limit (table row DEFLECTION_LIMIT); 0 otherwise.
     """
     table, exponent, smoothing = balls
     cos_psi = table[0]
@@ -116,6 +119,7 @@ def ball_loop(q, balls, f, K, ball_load, contact_angle):
     kn = table[7]
     direction = table[10]
     gap = table[11]
+    limit = table[12]
     dx = q[0]
     dy = q[1]
     dz = q[2]
@@ -129,6 +133,7 @@ def ball_loop(q, balls, f, K, ball_load, contact_angle):
     total = 0.0
     n_loaded = 0
     n_reversed = 0
+    n_beyond = 0
     for j in range(table.shape[1]):
         c = cos_psi[j]
         s = sin_psi[j]
@@ -150,6 +155,7 @@ def ball_loop(q, balls, f, K, ball_load, contact_angle):
         loaded = delta > 0.0
         n_loaded += loaded
         n_reversed += loaded & (direction[j] * uz < 0.0)
+        n_beyond += delta > limit[j]
         if ball_load is not None:
             ball_load[j] = Q
             contact_angle[j] = math.atan2(direction[j] * uz, ur)
@@ -214,4 +220,5 @@ def ball_loop(q, balls, f, K, ball_load, contact_angle):
         K[3, 3] = k33
         K[3, 4] = K[4, 3] = k34
         K[4, 4] = k44
-    return total, n_loaded, n_reversed
+    warnings = (CONTACT_REVERSED if n_reversed > 0 else 0) | (BEYOND_VALIDITY if n_beyond > 0 else 0)
+    return total, n_loaded, warnings

@@ -38,7 +38,7 @@ from .config import (CACHE, ERROR_MODEL, FASTMATH, SEARCH_CURVATURE, SEARCH_TRIA
                      SMOOTHING_LAST, SMOOTHING_RATIO, SMOOTHING_RTOL, STAGNATION_ITERATIONS)
 from .kernel import ball_loop
 from .linalg import cholesky_solve, lu_solve
-from .status import (CONTACT_REVERSED, CONVERGED, ITERATION_LIMIT, NONFINITE_INPUT, NONFINITE_RESULT,
+from .status import (CONVERGED, ITERATION_LIMIT, NONFINITE_INPUT, NONFINITE_RESULT,
                      PRECISION_LIMIT, SINGULAR, STALLED, UNLOADED)
 
 NEWTON = 0
@@ -114,8 +114,8 @@ def _cold_start(f_target, q, f, K, balls, D, max_step):
     if norm2 == 0.0:
         for i in range(5):
             q[i] = 0.0
-        total, n_loaded, n_rev = ball_loop(q, balls, f, K, None, None)
-        return 1, total, n_loaded, n_rev
+        total, n_loaded, warn = ball_loop(q, balls, f, K, None, None)
+        return 1, total, n_loaded, warn
     norm = math.sqrt(norm2)
     size = 0.02 * max_step
     n_exp = balls[0][8, 0]  # the first ball's exponent sets the rescale (exact for a uniform n)
@@ -123,7 +123,7 @@ def _cold_start(f_target, q, f, K, balls, D, max_step):
     for attempt in range(40):
         for i in range(5):
             q[i] = size * f_target[i] * D[i] * D[i] / norm
-        total, n_loaded, n_rev = ball_loop(q, balls, f, None, None, None)
+        total, n_loaded, warn = ball_loop(q, balls, f, None, None, None)
         evals += 1
         if n_loaded > 0:
             break
@@ -137,19 +137,19 @@ def _cold_start(f_target, q, f, K, balls, D, max_step):
     factor = min(max(proj ** (-1.0 / n_exp), 0.05), 20.0) if proj > 0.0 else 1.0
     for i in range(5):
         q[i] *= factor
-    total, n_loaded, n_rev = ball_loop(q, balls, f, K, None, None)
+    total, n_loaded, warn = ball_loop(q, balls, f, K, None, None)
     if n_loaded == 0:
         # shrunk back inside the clearance: keep the guess that loads balls
         for i in range(5):
             q[i] /= factor
-        total, n_loaded, n_rev = ball_loop(q, balls, f, K, None, None)
+        total, n_loaded, warn = ball_loop(q, balls, f, K, None, None)
         evals += 1
-    return evals + 1, total, n_loaded, n_rev
+    return evals + 1, total, n_loaded, warn
 
 
 @njit(cache=CACHE, fastmath=FASTMATH, error_model=ERROR_MODEL, nogil=True)
-def _descend(f_target, q, f, K, total, n_loaded, n_rev, balls, settings, tol, arm, reach, D, work):
-    """The fast phase: Newton or Broyden from q; f, K, total, n_loaded, n_rev are the kernel's values at q.
+def _descend(f_target, q, f, K, total, n_loaded, warn, balls, settings, tol, arm, reach, D, work):
+    """The fast phase: Newton or Broyden from q; f, K, total, n_loaded, warn are the kernel's values at q.
 
     Stops when the scaled residual is within max(tol, rounding floor). On
     return f (and, for Newton, K) hold the values at the returned q, and
@@ -187,18 +187,18 @@ def _descend(f_target, q, f, K, total, n_loaded, n_rev, balls, settings, tol, ar
         floor = _rounding_floor(total, Ks if newton else B, q, D, arm, reach)
         work[_FLOOR, 0] = floor
         if rmax <= max(tol, floor):
-            return CONVERGED, it, rmax, evals, total, n_rev
+            return CONVERGED, it, rmax, evals, total, warn
         if it == settings.max_iter or since_best >= STAGNATION_ITERATIONS:
             break
         if n_loaded == 0:
-            return SINGULAR, it, rmax, evals, total, n_rev
+            return SINGULAR, it, rmax, evals, total, warn
         for i in range(5):
             rhs[i] = -g[i]
         diag = 0.0
         for i in range(5):
             diag = max(diag, Ks[i, i] if newton else abs(B[i, i]))
         if not diag > 0.0:
-            return SINGULAR, it, rmax, evals, total, n_rev
+            return SINGULAR, it, rmax, evals, total, warn
         accepted = False
         lam = lam * 0.1 if lam > 1e-12 else 0.0
         for attempt in range(12):
@@ -257,7 +257,7 @@ def _descend(f_target, q, f, K, total, n_loaded, n_rev, balls, settings, tol, ar
                 for i in range(5):
                     B[i, i] += lam * diag
         if not accepted:
-            return STALLED, it, rmax, evals, total, n_rev
+            return STALLED, it, rmax, evals, total, warn
         if not newton:
             # good Broyden update: B += (y - B s) s^T / (s^T s), y = g_t - g, s = t*dp
             ss = 0.0
@@ -284,7 +284,7 @@ def _descend(f_target, q, f, K, total, n_loaded, n_rev, balls, settings, tol, ar
                     K[i, j] = Kt[i, j]
         total = tot_t
         n_loaded = nl_t
-        n_rev = nr_t
+        warn = nr_t
         rmax = rmax_t
         r2 = r2_t
         if rmax < 0.5 * best:
@@ -292,7 +292,7 @@ def _descend(f_target, q, f, K, total, n_loaded, n_rev, balls, settings, tol, ar
             since_best = 0
         else:
             since_best += 1
-    return ITERATION_LIMIT, settings.max_iter, rmax, evals, total, n_rev
+    return ITERATION_LIMIT, settings.max_iter, rmax, evals, total, warn
 
 
 @njit(cache=CACHE, fastmath=FASTMATH, error_model=ERROR_MODEL, nogil=True)
@@ -319,7 +319,7 @@ def _minimise_energy(f_target, q, f, K, balls, settings, tol, arm, reach, D, wor
     LU = work[_LU:_LU + 5]
     keep = work[_BEST]
     evals = 1
-    total, n_loaded, n_rev = ball_loop(q, balls, f, K, None, None)
+    total, n_loaded, warn = ball_loop(q, balls, f, K, None, None)
     rmax, r2 = _scaled_residual(f, f_target, D, g)
     radius = 0.0
     for i in range(5):
@@ -336,7 +336,7 @@ def _minimise_energy(f_target, q, f, K, balls, settings, tol, arm, reach, D, wor
         floor = _rounding_floor(total, Ks, q, D, arm, reach)
         work[_FLOOR, 0] = floor
         if rmax <= max(tol, floor):
-            return CONVERGED, it, rmax, evals, total, n_rev
+            return CONVERGED, it, rmax, evals, total, warn
         if it == settings.max_iter:
             break
         ok = cholesky_solve(Ks, 0.0, rhs, dp, LU)
@@ -352,7 +352,7 @@ def _minimise_energy(f_target, q, f, K, balls, settings, tol, arm, reach, D, wor
         for i in range(5):
             dphi0 += g[i] * dp[i]
         if not dphi0 < 0.0:
-            return STALLED, it, rmax, evals, total, n_rev
+            return STALLED, it, rmax, evals, total, warn
         t = 1.0
         t_lo = 0.0
         d_lo = dphi0
@@ -394,11 +394,11 @@ def _minimise_energy(f_target, q, f, K, balls, settings, tol, arm, reach, D, wor
                 break
         if not accepted:
             if t_lo == 0.0:
-                return STALLED, it, rmax, evals, total, n_rev
+                return STALLED, it, rmax, evals, total, warn
             if t_hi < 0.0:
                 # Pi kept falling along the line as far as it was followed: the load has a
                 # direction no ball holds (a row of fewer than three balls)
-                return SINGULAR, it, rmax, evals, total, n_rev
+                return SINGULAR, it, rmax, evals, total, warn
             t = t_lo
             for i in range(5):
                 qt[i] = keep[i]
@@ -413,7 +413,7 @@ def _minimise_energy(f_target, q, f, K, balls, settings, tol, arm, reach, D, wor
         for i in range(5):
             size = max(size, abs(q[i] / D[i]))
         if not step > _EPS * size:
-            return STALLED, it, rmax, evals, total, n_rev
+            return STALLED, it, rmax, evals, total, warn
         radius = max(2.0 * step, 0.05 * settings.max_step)
         for i in range(5):
             q[i] = qt[i]
@@ -422,9 +422,9 @@ def _minimise_energy(f_target, q, f, K, balls, settings, tol, arm, reach, D, wor
             for j in range(5):
                 K[i, j] = Kt[i, j]
         total = tot_t
-        n_rev = nr_t
+        warn = nr_t
         rmax = rmax_t
-    return ITERATION_LIMIT, settings.max_iter, rmax, evals, total, n_rev
+    return ITERATION_LIMIT, settings.max_iter, rmax, evals, total, warn
 
 
 @njit(cache=CACHE, fastmath=FASTMATH, error_model=ERROR_MODEL, nogil=True)
@@ -443,15 +443,15 @@ def _smoothing_continuation(f_target, q, f, K, balls, settings, tol, arm, reach,
     evals = 0
     while eps > SMOOTHING_LAST * reach:
         level_tol = max(tol, SMOOTHING_RTOL * tol / settings.rtol)
-        st, it, rmax, ev, total, n_rev = _minimise_energy(f_target, q, f, K, (table, exponent, eps), settings,
+        st, it, rmax, ev, total, warn = _minimise_energy(f_target, q, f, K, (table, exponent, eps), settings,
                                                           level_tol, arm, reach, D, work)
         iterations += it
         evals += ev
         if st == SINGULAR:
-            return st, iterations, rmax, evals, total, n_rev
+            return st, iterations, rmax, evals, total, warn
         eps *= SMOOTHING_RATIO
-    st, it, rmax, ev, total, n_rev = _minimise_energy(f_target, q, f, K, balls, settings, tol, arm, reach, D, work)
-    return st, iterations + it, rmax, evals + ev, total, n_rev
+    st, it, rmax, ev, total, warn = _minimise_energy(f_target, q, f, K, balls, settings, tol, arm, reach, D, work)
+    return st, iterations + it, rmax, evals + ev, total, warn
 
 
 @njit(cache=CACHE, fastmath=FASTMATH, error_model=ERROR_MODEL, nogil=True)
@@ -531,12 +531,12 @@ def solve_case(f_target, q, f, K, balls, settings, warm, work, ball_load, contac
     status = STALLED
     for attempt in range(2):
         if warm and attempt == 0:
-            total, n_loaded, n_rev = ball_loop(q, balls, f, K, None, None)
+            total, n_loaded, warn = ball_loop(q, balls, f, K, None, None)
             ev = 1
         elif attempt == 1 and not warm:
             break
         else:
-            ev, total, n_loaded, n_rev = _cold_start(f_target, q, f, K, balls, D, settings.max_step)
+            ev, total, n_loaded, warn = _cold_start(f_target, q, f, K, balls, D, settings.max_step)
         evals += ev
         if scale == 0.0 and total == 0.0:
             # no load and no ball loaded at rest (no preload): q = 0, f = 0, Kb = 0 exactly
@@ -544,28 +544,28 @@ def solve_case(f_target, q, f, K, balls, settings, warm, work, ball_load, contac
                 q[i] = 0.0
             ball_loop(q, balls, f, K, ball_load, contact_angle)
             return SolveOutcome(UNLOADED, 0, 0.0, evals + 1)
-        status, it, rmax, ev, total, n_rev = _descend(f_target, q, f, K, total, n_loaded, n_rev, balls, settings,
+        status, it, rmax, ev, total, warn = _descend(f_target, q, f, K, total, n_loaded, warn, balls, settings,
                                                       tol, arm, reach, D, work)
         iterations += it
         evals += ev
         if status == CONVERGED:
             break
     if status != CONVERGED:
-        status, it, rmax, ev, total, n_rev = _smoothing_continuation(f_target, q, f, K, balls, settings, tol, arm,
+        status, it, rmax, ev, total, warn = _smoothing_continuation(f_target, q, f, K, balls, settings, tol, arm,
                                                                      reach, D, work)
         iterations += it
         evals += ev
     floor = work[_FLOOR, 0]
     if ball_load is not None or settings.method != NEWTON or status != CONVERGED:
         # Newton's last accepted step already left f and Kb at q; otherwise evaluate once more
-        total, n_loaded, n_rev = ball_loop(q, balls, f, K, ball_load, contact_angle)
+        total, n_loaded, warn = ball_loop(q, balls, f, K, ball_load, contact_angle)
         evals += 1
         rmax, r2 = _scaled_residual(f, f_target, D, work[_G])
     if not _all_finite(q, f, K):
         return SolveOutcome(NONFINITE_RESULT, iterations, math.nan, evals)
     if status == CONVERGED and floor > tol and scale > 0.0:
         status = PRECISION_LIMIT  # as close as float64 gets, but not within rtol of the target
-    if status == CONVERGED and n_rev > 0:
-        status |= CONTACT_REVERSED
+    if status == CONVERGED:
+        status |= warn  # the kernel's warning bits at the solution
     residual = rmax / scale if scale > 0.0 else rmax / max(total, 1e-300)
     return SolveOutcome(status, iterations, residual, evals)

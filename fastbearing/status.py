@@ -1,7 +1,7 @@
 """Solver status codes (int8), shared by the njit solver and the Python layer.
 
-The low 4 bits hold the outcome; bit 4 is a warning flag that may be set on
-top of a converged outcome. Failure to converge is data, never an exception.
+The low 4 bits hold the outcome; bits 4 and 5 are warning flags that may be
+set on top of a converged outcome. Failure to converge is data, never an exception.
 """
 
 CONVERGED = 0
@@ -25,6 +25,12 @@ NONFINITE_RESULT = 7
 #: Warning bit: at the solution a loaded ball's contact angle has the opposite
 #: sign to its row's contact direction (the ring may have no shoulder there).
 CONTACT_REVERSED = 16
+#: Warning bit: at the solution a ball's deflection exceeds its row's ``deflection_limit`` (by default
+#: where the Hertz pressure reaches 4200 N/mm^2 for a bearing given by its geometry, else 0.15 A0): the
+#: equations are solved, but the model (small elastic contacts) no longer describes the bearing.
+BEYOND_VALIDITY = 32
+#: Both warning bits.
+WARNING_MASK = CONTACT_REVERSED | BEYOND_VALIDITY
 
 OUTCOME_MASK = 15
 
@@ -66,4 +72,6 @@ def describe(status: int) -> str:
     name = NAMES.get(outcome(status), f"unknown({outcome(status)})")
     if int(status) & CONTACT_REVERSED:
         name += "+contact_reversed"
+    if int(status) & BEYOND_VALIDITY:
+        name += "+beyond_validity"
     return name

@@ -72,7 +72,9 @@ def result_variables(given: str, inner: tuple[str, ...] = ()) -> list[Variable]:
     flag = {"flag_values": np.array(codes, np.int8),
             "flag_meanings": " ".join(st.NAMES[c] for c in codes),
             "comment": f"low 4 bits: outcome; +{st.CONTACT_REVERSED}: warning contact_reversed (a loaded ball's "
-                       "contact angle crossed zero against its row's contact direction)"}
+                       f"contact angle crossed zero against its row's contact direction); +{st.BEYOND_VALIDITY}: "
+                       "warning beyond_validity (a ball's deflection exceeds its row's deflection_limit: the "
+                       "Hertz pressure limit or 0.15 A0)"}
     return [
         V("q", ("dof",), "f8", ", ".join(DISPLACEMENT_UNITS),
           "inner-ring displacement (dx, dy, dz, bx, by) at the bearing centre"),

@@ -98,15 +98,17 @@ def operating_point(given_load, inputs, warm, q, f, K, balls, settings, work, ba
     """One case of a map or a ball-passage table: solve for q (load given) or substitute q.
 
     Returns (status, iterations, residual); fills q, f, K and the per-ball record.
-    A substitution whose f or Kb is not finite gets NONFINITE_RESULT.
+    A substitution whose f or Kb is not finite gets NONFINITE_RESULT; a finite one carries the kernel's
+    warning bits (contact_reversed, beyond_validity) like a solve.
     """
     if given_load:
         out = solve_case(inputs, q, f, K, balls, settings, warm, work, ball_load, contact_angle)
         return out.status, out.iterations, out.residual
     for d in range(5):
         q[d] = inputs[d]
-    ball_loop(q, balls, f, K, ball_load, contact_angle)
-    return substitution_status(f, K), 0, 0.0
+    warnings = ball_loop(q, balls, f, K, ball_load, contact_angle)[2]
+    status = substitution_status(f, K)
+    return (status | warnings if status == CONVERGED else status), 0, 0.0
 
 
 @njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True)
@@ -186,7 +188,7 @@ def passage_sweep(inputs, given_load, tables, exponent, q, f, K, status, iterati
                   min_angle, max_angle, ball_row, settings, stop):
     """Ball-passage tables, in place: every operating point at every cage position.
 
-    ``tables`` (P, 12, n_balls) holds the ball table at each of P cage
+    ``tables`` (P, 13, n_balls) holds the ball table at each of P cage
     angles (``exponent`` as in a ball set); outputs are (N, P, ...). Along
     the positions of one point each solve starts from the previous
     position's converged q. ``stop[0] != 0`` ends the sweep early, as in map_sweep.
