@@ -220,7 +220,7 @@ def job(cfg: PassageConfig) -> jobs.Job:
         sizes={"dof": 5, "dof_col": 5, "row": cfg.bearing.n_rows, "position": cfg.positions, "harmonic": H + 1},
         compute=compute, settings=settings, method=cfg.method, chunk=cfg.chunk, text=cfg.text, source=cfg.source,
         fingerprint=cfg.fingerprint, own_dims=own, aux_coords=tuple(aux), attrs=attrs,
-        solves_per_case=cfg.positions, case_word="point")
+        solves_per_case=cfg.positions, case_word="point", kernel="sweep.passage_sweep")
 
 
 def passage(config, output=None, *, threads=None, resume=False, overwrite=False, csv_files=False, progress=None,
