@@ -26,7 +26,7 @@ import numpy as np
 from . import plot
 from .api import SolveResult, solve, solve_many, stiffness, stiffness_many
 from .bearing import Bearing
-from .files import publish_text
+from .files import OutputExists, publish_text
 from .shaft import transfer
 
 CITATION = ("A. Gunduz, R. Singh, Stiffness matrix formulation for double row angular contact ball bearings: "
@@ -58,6 +58,9 @@ TABLE2 = {"DB": {"bearing 1": (290.5, 293.7, 238.4, 153.5, 154.2), "bearing 2": 
                  "sum": (328.8, 273.3, 217.2, 126.4, 153.9), "double row": (329.0, 272.8, 216.9, 156.1, 211.4)}}
 TABLE2_CENTRES = {"bearing 1": 64.0, "bearing 2": 84.0, "double row": 74.0}  # mm from the load point O
 FIGURES = tuple(f"fig{n:02d}.png" for n in range(6, 15))
+#: Points per load or displacement sweep of Figs. 6-10: Fz = 1-10 kN in 0.2 kN steps (5 kN on the grid);
+#: displacement sweeps from zero are spaced quadratically (dense near zero, where k ~ sqrt(delta) is steep).
+POINTS = 46
 REPORT = "report.md"
 FIG_SIZE = {2: (1000, 430), 3: (1400, 430), 4: (1000, 800), 6: (1000, 1000)}  # panels -> pixels
 STYLE = {"DB": dict(marker="o", color="C0", label="DB (back-to-back)"),
@@ -153,11 +156,22 @@ def _figure(n_panels: int, rows: int = 1):
 
 
 def _lines(ax, x, curves: dict, xlabel: str, ylabel: str, title: str):
+    """One panel: a curve per arrangement; coinciding ones stay visible and say so (plot.draw_curves)."""
+    lines = []
     for name, y in curves.items():
-        ax.plot(x, y, **STYLE[name], markersize=5, markerfacecolor="none" if name != "single" else None)
+        style = {k: v for k, v in STYLE[name].items() if k != "label"}
+        style.update(markersize=5, markerfacecolor="none" if name != "single" else None)
+        lines.append((STYLE[name]["label"], y, style))
+    plot.draw_curves(ax, x, lines, names=list(curves))
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
     ax.set_title(title)
+    ax.legend(fontsize=7)  # in every panel: which curves coincide differs from panel to panel
+
+
+def _sweep(n: int, top: float) -> np.ndarray:
+    """0 ... top in n points, spaced quadratically: dense near zero."""
+    return top * np.linspace(0.0, 1.0, n) ** 2
 
 
 def fig06(n: int):
@@ -173,7 +187,6 @@ def fig06(n: int):
         _lines(ax, Fz / 1e3, {a: K[a][:, i, i] / scale for a in K}, "axial load $F_z$ (kN)",
                f"{text} ({units})", f"Fig. 6: {text.split(' $')[0]} under pure axial load")
         ax.set_ylim(bottom=0)
-    axes[0].legend()
     d = {a: np.diagonal(K[a], axis1=1, axis2=2) for a in K}
     checks = {"rising": all(np.all(np.diff(d[a][:, i]) > 0) for a in d for i in (0, 2, 4)),
               "kxx_eq_kyy": max(np.max(np.abs(d[a][:, 0] - d[a][:, 1]) / d[a][:, 0]) for a in d),
@@ -184,7 +197,7 @@ def fig06(n: int):
 
 def fig07(n: int):
     """Pure axial displacement: Fz(dz), kzz(dz) and kzz(Fz) (load given)."""
-    dz = np.linspace(0.0, 0.05, n)
+    dz = _sweep(n, 0.05)
     q = np.zeros((n, 5))
     q[:, 2] = dz
     fK = {a: stiffness_many(bearing(a), q) for a in DOUBLE_AND_SINGLE}
@@ -199,7 +212,6 @@ def fig07(n: int):
            "axial stiffness $k_{zz}$ (MN/mm)", "Fig. 7(b): $k_{zz}$ vs $\\delta_z$")
     _lines(axes[2], Fz / 1e3, {a: Kf[a][:, 2, 2] / 1e6 for a in Kf}, "axial load $F_z$ (kN)",
            "axial stiffness $k_{zz}$ (MN/mm)", "Fig. 7(c): $k_{zz}$ vs $F_z$")
-    axes[0].legend()
     loaded = dz > 0
     k = {a: fK[a][1][loaded, 2, 2] for a in fK}
     at5 = int(np.argmin(np.abs(Fz - 5000.0)))
@@ -211,7 +223,7 @@ def fig07(n: int):
 
 def fig08(n: int):
     """Pure radial displacement: Fx(dx), kxx(dx)."""
-    dx = np.linspace(0.0, 0.05, n)
+    dx = _sweep(n, 0.05)
     q = np.zeros((n, 5))
     q[:, 0] = dx
     fK = {a: stiffness_many(bearing(a), q) for a in DOUBLE_AND_SINGLE}
@@ -220,7 +232,6 @@ def fig08(n: int):
            "radial force $F_x$ (kN)", "Fig. 8(a): $F_x$ vs $\\delta_x$")
     _lines(axes[1], dx, {a: fK[a][1][:, 0, 0] / 1e6 for a in fK}, r"radial displacement $\delta_x$ (mm)",
            "radial stiffness $k_{xx}$ (MN/mm)", "Fig. 8(b): $k_{xx}$ vs $\\delta_x$")
-    axes[0].legend()
     k = {a: fK[a][1][1:, 0, 0] for a in fK}
     checks = {"same_for_all": max(np.max(np.abs(k[a] - k["DB"]) / k["DB"]) for a in ("DF", "DT")),
               "twice_single": float(np.max(np.abs(k["DB"] / k["single"] - 2.0))),
@@ -230,7 +241,7 @@ def fig08(n: int):
 
 def fig09(n: int):
     """Pure tilt by = 0-5 mrad: My(by), kthyty(by)."""
-    by = np.linspace(0.0, 0.005, n)
+    by = _sweep(n, 0.005)
     q = np.zeros((n, 5))
     q[:, 4] = by
     fK = {a: stiffness_many(bearing(a), q) for a in DOUBLE_AND_SINGLE}
@@ -240,7 +251,6 @@ def fig09(n: int):
     _lines(axes[1], by * 1e3, {a: fK[a][1][:, 4, 4] / 1e9 for a in fK}, r"angular displacement $\beta_y$ (mrad)",
            r"tilting stiffness $k_{\theta_y\theta_y}$ (GN·mm/rad)", "Fig. 9(b): $k_{\\theta_y\\theta_y}$ vs "
            "$\\beta_y$")
-    axes[0].legend()
     k = {a: fK[a][1][-1, 4, 4] for a in fK}
     checks = {"order": bool(k["DB"] > k["DT"] > k["DF"]), "k_at_5mrad": k, "My_DB_at_5mrad": float(fK["DB"][0][-1, 4])}
     return fig, checks
@@ -248,7 +258,7 @@ def fig09(n: int):
 
 def fig10(n: int):
     """Off-diagonal terms: kxz(by), kxthy(dz), kzthy(dx), signed."""
-    s = np.linspace(0.0, 1.0, n)
+    s = _sweep(n, 1.0)
     cases = ((4, 0.010, (0, 2), 1e6, r"angular displacement $\beta_y$ (mrad)", 1e3, "$k_{xz}$ (MN/mm)",
               "Fig. 10(a): $k_{xz}$ vs $\\beta_y$"),
              (2, 0.05, (0, 4), 1e6, r"axial displacement $\delta_z$ (mm)", 1.0, r"$k_{x\theta_y}$ (MN/rad)",
@@ -263,7 +273,6 @@ def fig10(n: int):
         K = {a: stiffness_many(bearing(a), q)[1][:, i, j] for a in DOUBLE_AND_SINGLE}
         _lines(ax, s * top * xscale, {a: K[a] / scale for a in K}, xlabel, ylabel, title)
         checks[title.split(":")[0]] = {a: float(K[a][-1]) for a in K}
-    axes[0].legend()
     return fig, checks
 
 
@@ -277,17 +286,16 @@ def fig11(a0, K):
     """Diagonal terms vs a0 at dx = 0.05 mm."""
     fig, axes = _figure(3)
     ax = axes[0]
-    for a in K:
-        for i, ls in ((0, "-"), (1, "--"), (2, ":")):
-            ax.plot(a0, K[a][:, i, i] / 1e6, linestyle=ls, marker=STYLE[a]["marker"], color=f"C{i}",
-                    markerfacecolor="none", label=f"{a} $k_{{{'xyz'[i]}{'xyz'[i]}}}$")
+    curves = [(f"{a} $k_{{{'xyz'[i]}{'xyz'[i]}}}$", K[a][:, i, i] / 1e6,
+               dict(marker=STYLE[a]["marker"], color=f"C{i}", markerfacecolor="none", markersize=5))
+              for a in K for i in range(3)]
+    plot.draw_curves(ax, a0, curves, names=[a for a in K for _ in range(3)])
     ax.set(xlabel="unloaded contact angle $\\alpha_0$ (deg)", ylabel="translational stiffness (MN/mm)",
            title="Fig. 11(a): $k_{xx}$, $k_{yy}$, $k_{zz}$ (all arrangements coincide)")
-    ax.legend(ncol=3, fontsize=7)
+    ax.legend(fontsize=6)
     for ax, i, name in ((axes[1], 3, r"\theta_x\theta_x"), (axes[2], 4, r"\theta_y\theta_y")):
         _lines(ax, a0, {a: K[a][:, i, i] / 1e9 for a in K}, "unloaded contact angle $\\alpha_0$ (deg)",
                f"$k_{{{name}}}$ (GN·mm/rad)", f"Fig. 11({'bc'[i - 3]}): $k_{{{name}}}$")
-    axes[1].legend()
     d = {a: np.diagonal(K[a], axis1=1, axis2=2) for a in K}
     checks = {"same_translation": max(np.max(np.abs(d[a][:, :3] - d["DB"][:, :3]) / d["DB"][:, :3])
                                       for a in ("DF", "DT")),
@@ -306,7 +314,6 @@ def fig12(a0, K):
     for ax, (i, j, label), panel in zip(axes, entries, "abcd"):
         _lines(ax, a0, {a: K[a][:, i, j] / 1e6 for a in K}, "unloaded contact angle $\\alpha_0$ (deg)", label,
                f"Fig. 12({panel}): {label.split(' (')[0]}")
-    axes[0].legend()
     scale = {a: np.sqrt(K[a][:, 0, 0] * K[a][:, 2, 2]) for a in K}
     dt_kxz = K["DT"][:, 0, 2]
     checks = {"kxz_db_df": max(float(np.max(np.abs(K[a][:, 0, 2]) / scale[a])) for a in ("DB", "DF")),
@@ -355,13 +362,12 @@ def fig13_14(folder: Path, positions: int):
                    title=f"Fig. 13({'abcdef'[3 * col + r]}): DB, Z = {Z}, $\\delta_x$ = 0.05 mm")
     fig14, axes14 = _figure(3)
     for ax, name in zip(axes14, labels):
+        curves = {}
         for a, (key, point) in (("DF", ("DF", 0)), ("DB", ("DB", 1)), ("DT", ("DT", 0))):
-            x, y, xl, _, _ = plot.passage_curve(tables[key], name, at={"point": point}, x="period",
-                                                normalise="first")
-            ax.plot(x, y, **STYLE[a], markersize=3, markerfacecolor="none")
-        ax.set(xlabel=xl, ylabel=plot.axis_label(f"{labels[name]} / ({labels[name]})$_{{\\psi=0}}$", "1"),
-               title=f"Fig. 14: {labels[name]}, $\\beta_y$ = 0.03 rad, Z = 14")
-    axes14[0].legend()
+            x, curves[a], xl, _, _ = plot.passage_curve(tables[key], name, at={"point": point}, x="period",
+                                                        normalise="first")
+        _lines(ax, x, curves, xl, plot.axis_label(f"{labels[name]} / ({labels[name]})$_{{\\psi=0}}$", "1"),
+               f"Fig. 14: {labels[name]}, $\\beta_y$ = 0.03 rad, Z = 14")
     checks = {"Z14": _variation(tables["DB"], 0), "Z4": _variation(tables["DB4"], 0),
               "tilt": {a: _variation(tables[key], p) for a, (key, p) in
                        (("DF", ("DF", 0)), ("DB", ("DB", 1)), ("DT", ("DT", 0)))}}
@@ -627,10 +633,10 @@ def paper(out, *, overwrite: bool = False) -> Path:
     if not overwrite:
         existing = [p for p in targets if p.exists()]
         if existing:
-            raise ValueError(f"{existing[0]} exists; pass --overwrite (overwrite=True) to replace it")
+            raise OutputExists(existing[0])
     plot._mpl()
     out.mkdir(parents=True, exist_ok=True)
-    n = 11  # points per load or displacement sweep
+    n = POINTS  # points per load or displacement sweep
     a0 = np.arange(0.0, 86.0, 5.0)  # unloaded contact angles, deg
     tables = solve_tables()
     splits = {a: split_rows(a) for a in ("DB", "DF", "DT")}

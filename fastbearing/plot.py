@@ -6,9 +6,14 @@ used. Every function returns a ``matplotlib.figure.Figure`` and, given
 ``out``, also writes it: the format (PNG, SVG or PDF) follows the file
 extension, and an existing file is never replaced unless ``overwrite``.
 
-Data are in N, mm, rad. Axis labels carry the units, with a decimal prefix
-chosen for readable ticks (kN/mm, MN*mm/rad, mrad); ``base_units=True`` keeps
-N, mm, rad as stored.
+Data are in N, mm, rad. Axis labels and titles carry the units, with a
+decimal prefix chosen for readable ticks (kN/mm, MN*mm/rad, mrad);
+``base_units=True`` keeps N, mm, rad as stored, in titles too.
+
+Curves of one panel that coincide (:func:`coincident`) are drawn so that
+both stay visible, the later one dashed on top, and its legend entry says
+``(coincides with ...)`` (:func:`draw_curves`, also used by
+``fastbearing paper``).
 
 Variables (``var``): a Kb entry ``k`` + two of x, y, z, tx, ty (``kxx``,
 ``kzz``, ``kxty``, ``ktyty``, ...); a displacement component ``dx`` ...
@@ -28,7 +33,7 @@ import numpy as np
 
 from . import status as st
 from .dofs import DISPLACEMENT_NAMES, DISPLACEMENT_UNITS, DOF_LABELS as DOF, LOAD_NAMES, LOAD_UNITS, k_entry_units
-from .files import publish
+from .files import publish, refuse_overwrite
 
 FORMATS = (".png", ".svg", ".pdf")
 #: Default picture size in pixels (width, height) and resolution.
@@ -48,6 +53,14 @@ _STYLE = {"font.size": 10, "axes.titlesize": 10, "axes.labelsize": 10, "legend.f
 _SYMBOL = {"x": "x", "y": "y", "z": "z", "tx": r"\theta_x", "ty": r"\theta_y"}
 _QUANTITY_UNITS = dict(zip(DISPLACEMENT_NAMES + LOAD_NAMES, DISPLACEMENT_UNITS + LOAD_UNITS))
 _PREFIXES = ((1e9, "G"), (1e6, "M"), (1e3, "k"))
+#: Curves of one panel closer than this fraction of the panel's value range at every point coincide on the
+#: picture (0.5 % is about one line width on a 500-pixel panel): they are drawn so that both stay visible.
+COINCIDE_RTOL = 5e-3
+#: Line styles of the 1st, 2nd ... curve drawn over an earlier one it coincides with.
+_OVER_STYLES = ("--", ":", "-.", (0, (6, 2, 1, 2, 1, 2)))
+#: Lines with more points than this get sparse markers, one every _MARK_STEP of the axes diagonal.
+_SPARSE = 25
+_MARK_STEP = 0.1
 
 
 # -- matplotlib, figures, files ------------------------------------------------
@@ -86,8 +99,7 @@ def check_output(out, overwrite: bool = False) -> Path:
     if out.suffix.lower() not in FORMATS:
         raise ValueError(f"output must end in .png, .svg or .pdf (the format follows the extension), "
                          f"got {out.name!r}")
-    if out.exists() and not overwrite:
-        raise ValueError(f"{out} exists; pass --overwrite (overwrite=True) to replace it")
+    refuse_overwrite(out, overwrite)
     if not out.parent.is_dir():
         raise ValueError(f"output folder {out.parent} does not exist")
     return out
@@ -97,6 +109,14 @@ def save(fig, out, overwrite: bool = False) -> Path:
     """Write ``fig`` to ``out`` (format from the extension), via a temporary name: never half-written."""
     out = check_output(out, overwrite)
     return publish(out, lambda tmp: fig.savefig(tmp, format=out.suffix[1:].lower(), dpi=fig.dpi))
+
+
+def _figure_legend(fig, handles, **kwargs):
+    """One legend for the whole figure, below the panels (constrained layout makes room for it)."""
+    try:
+        return fig.legend(handles=handles, loc="outside lower center", **kwargs)
+    except ValueError:  # matplotlib < 3.7 has no 'outside' placement
+        return fig.legend(handles=handles, loc="lower center", **kwargs)
 
 
 def _finish(fig, out, overwrite):
@@ -152,6 +172,68 @@ def scale_units(values, units: str, base_units: bool = False) -> tuple[float, st
 def axis_label(text: str, units: str) -> str:
     """``text (units)``; dimensionless quantities read ``(-)``."""
     return f"{text} ({'-' if units == '1' else units})"
+
+
+# -- curves that coincide --------------------------------------------------------
+
+def coincident(curves, rtol: float = COINCIDE_RTOL) -> list:
+    """For each curve (y arrays over one common x), the index of the first earlier curve it coincides
+    with, or None.
+
+    Two curves coincide when they have the same length and the same gaps (NaN) and differ by at most
+    ``rtol`` times the range of all the curves' values together (their largest magnitude if that range
+    is 0) at every point: on the picture one would hide the other. A curve is compared only with curves
+    that coincide with no earlier one, so each group has one first curve.
+    """
+    ys = [np.asarray(y, dtype=float).ravel() for y in curves]
+    values = np.concatenate([y[np.isfinite(y)] for y in ys]) if ys else np.empty(0)
+    scale = float(np.ptp(values)) if values.size else 0.0
+    if scale == 0.0 and values.size:
+        scale = float(np.abs(values).max())
+    same = [None] * len(ys)
+    for k, y in enumerate(ys):
+        ok = np.isfinite(y)
+        for j in range(k):
+            if (same[j] is None and ys[j].shape == y.shape and np.array_equal(ok, np.isfinite(ys[j]))
+                    and np.all(np.abs(y[ok] - ys[j][ok]) <= rtol * scale)):
+                same[k] = j
+                break
+    return same
+
+
+def draw_curves(ax, x, curves, *, names=None, rtol: float = COINCIDE_RTOL) -> list:
+    """Plot ``curves`` = [(label, y, style dict), ...] over a common ``x`` on ``ax``; returns the lines.
+
+    A curve that coincides with an earlier one (:func:`coincident`) is drawn over it (higher z-order)
+    dashed, dotted, ... so the first shows through the gaps; its markers sit between the first one's
+    (or, where every point has a marker, as larger open rings around them), and its legend label reads
+    ``label (coincides with NAME)``, NAME from ``names`` (default: the labels). Lines of more than 25
+    points get sparse markers unless the style sets ``markevery``.
+    """
+    import matplotlib as mpl
+
+    same = coincident([y for _, y, _ in curves], rtol)
+    names = list(names) if names is not None else [label for label, _, _ in curves]
+    size = {j: 1 + same.count(j) for j in same if j is not None}
+    drawn, lines = {}, []
+    for (label, y, given), j in zip(curves, same):
+        look = dict(given or {})
+        marked = look.get("marker") not in (None, "", "None", "none")
+        sparse = marked and len(x) > _SPARSE and "markevery" not in look
+        if sparse:
+            look["markevery"] = (0.0, _MARK_STEP)
+        if j is not None:
+            m = drawn[j] = drawn.get(j, 0) + 1
+            look["linestyle"] = _OVER_STYLES[(m - 1) % len(_OVER_STYLES)]
+            look["zorder"] = look.get("zorder", 2.0) + 0.1 * m  # 2: matplotlib's default for lines
+            if sparse:
+                look["markevery"] = (_MARK_STEP * m / size[j], _MARK_STEP)
+            elif marked:
+                look["markerfacecolor"] = "none"
+                look["markersize"] = look.get("markersize", mpl.rcParams["lines.markersize"]) + 3.0 * m
+            label = None if label is None else f"{label} (coincides with {names[j]})"
+        lines += ax.plot(x, y, label=label, **look)
+    return lines
 
 
 # -- reading files ---------------------------------------------------------------
@@ -224,12 +306,12 @@ def _axis_units(ds, name: str) -> str:
     return ds[name].attrs.get("units", _QUANTITY_UNITS.get(name, "1"))
 
 
-def select(ds, da, keep, at=None, default: str = "middle"):
+def select(ds, da, keep, at=None, default: str = "middle", base_units: bool = False):
     """Fix every case axis not in ``keep`` at the nearest value of ``at[axis]`` (default: the middle
     value, or the first with ``default="first"``).
 
     Returns the selected ``da``, the matching solver ``status`` and the operating point as a list of
-    'name = value units' texts (for titles).
+    'name = value units' texts (for titles; N, mm, rad as stored with ``base_units``).
     """
     dims = case_dims(ds)
     at = dict(at or {})
@@ -254,21 +336,32 @@ def select(ds, da, keep, at=None, default: str = "middle"):
         fixed[name] = k
         if name in ("case", "point"):  # a table of operating points: name the chosen one's inputs
             where.append(f"{name} {int(values[k])}")
-            where += [_value_text(c, float(ds[c].values[k]), _axis_units(ds, c))
+            where += [_value_text(c, float(ds[c].values[k]), _axis_units(ds, c), base_units)
                       for c in LOAD_NAMES + DISPLACEMENT_NAMES
                       if c in ds.coords and ds[c].dims == (name,) and ds[c].values[k] != 0]
         else:
-            where.append(_value_text(name, values[k], _axis_units(ds, name)))
+            where.append(_value_text(name, values[k], _axis_units(ds, name), base_units))
     # constant inputs are part of the operating point too
     for name in LOAD_NAMES + DISPLACEMENT_NAMES:
         if name in ds.coords and ds[name].ndim == 0 and float(ds[name]) != 0.0:
-            where.append(_value_text(name, float(ds[name]), _axis_units(ds, name)))
+            where.append(_value_text(name, float(ds[name]), _axis_units(ds, name), base_units))
     return da.isel(fixed), ds["status"].isel(fixed), where
 
 
-def _value_text(name: str, value: float, units: str) -> str:
-    factor, shown = scale_units([value], units)
+def _value_text(name: str, value: float, units: str, base_units: bool = False) -> str:
+    factor, shown = scale_units([value], units, base_units)
     return f"{name} = {value * factor:.4g}" + ("" if units == "1" else f" {shown}")
+
+
+def _where_text(ds, keep, where) -> str:
+    """Title lines: the operating point shown and, where the file has others, how many and how to pick one."""
+    text = f"\nat {', '.join(where)}" if where else ""
+    others = {d: ds.sizes[d] for d in case_dims(ds) if d not in keep and ds.sizes[d] > 1}
+    if others:
+        total = math.prod(others.values())
+        pick = ",".join(f"{d}=0..{n - 1}" if d in ("case", "point") else f"{d}=VALUE" for d, n in others.items())
+        text += f"\n(1 of {total} operating points in the file; choose with --at {pick})"
+    return text
 
 
 def _check_axis(ds, name: str, role: str) -> None:
@@ -317,7 +410,7 @@ def plot_map(source, var: str, x: str, y: str, *, at=None, row=None, kind: str =
         if x == y:
             raise ValueError(f"x and y must be two different axes, got {x!r} twice")
         da, units = variable(ds, var, row)
-        da, status, where = select(ds, da, (x, y), at)
+        da, status, where = select(ds, da, (x, y), at, base_units=base_units)
         ok = st.converged_mask(status.transpose(y, x).values)
         if "row" in da.dims:  # a per-row variable over all rows: the bearing's total, smallest or largest
             da = {"loaded_balls": da.sum, "min_contact_angle": da.min}.get(var, da.max)("row")
@@ -380,7 +473,7 @@ def plot_lines(source, var, x: str, *, at=None, row=None, series=None, out=None,
             where = []
             for ax, name in zip(axes, names):
                 da, units = variable(ds, name, row)
-                da, status, where = select(ds, da, keep, at)
+                da, status, where = select(ds, da, keep, at, base_units=base_units)
                 ok = st.converged_mask(status.values)
                 values = np.where(ok[..., None] if "row" in da.dims else ok, da.values, np.nan)
                 # put x first, then the series axis, then row
@@ -394,9 +487,9 @@ def plot_lines(source, var, x: str, *, at=None, row=None, series=None, out=None,
                     rows = [f"row {r}" for r in range(ds.sizes["row"])]
                     labels = [f"{a}, {b}" for a in labels for b in rows] if labels else rows
                 fv, uv = scale_units(values, units, base_units)
-                for k in range(values.shape[1]):
-                    ax.plot(xv * fx, values[:, k] * fv, marker="o" if len(xv) <= 25 else None,
-                            label=labels[k] if labels else None)
+                look = {"marker": "o" if len(xv) <= _SPARSE else None}
+                draw_curves(ax, xv * fx, [(labels[k] if labels else None, values[:, k] * fv, look)
+                                          for k in range(values.shape[1])])
                 ax.set_ylabel(axis_label(symbol(name), uv))
                 if labels:
                     ax.legend(fontsize=8)
@@ -422,7 +515,7 @@ def passage_curve(ds, var: str, *, at=None, x: str = "angle", normalise: str = "
     da, units = variable(ds, var)
     if "row" in da.dims:
         raise ValueError(f"{var} is per row; passage plots take Kb entries, q or f components")
-    da, status, where = select(ds, da, ("position",), at, default="first")
+    da, status, where = select(ds, da, ("position",), at, default="first", base_units=base_units)
     values = np.where(st.converged_mask(status.values), da.values, np.nan)
     values = np.append(values, values[0])
     angle = np.append(ds["cage_angle"].values, float(ds.attrs["period_rad"]))
@@ -465,21 +558,25 @@ def plot_passage(source, var=PAPER_ENTRIES, *, at=None, x: str = "angle", normal
         check_output(out, overwrite)
     with _dataset(source, "passage") as ds:
         curves = [passage_curve(ds, n, at=at, x=x, normalise=normalise, base_units=base_units) for n in names]
+        positions = ds.sizes["position"]
         with style():
             fig = new_figure(size, dpi)
             shared = normalise != "none"
             axes = fig.subplots(1 if shared else len(names), 1, sharex=True, squeeze=False)[:, 0]
-            for k, (name, (xv, yv, xl, yl, where)) in enumerate(zip(names, curves)):
-                ax = axes[0 if shared else k]
-                ax.plot(xv, yv, marker="o" if len(xv) <= 40 else None, label=symbol(name))
+            # one marker per computed cage position: the closing point (position 0 again) has none
+            line = {"marker": "o", "markevery": slice(0, positions)} if positions <= 40 else {}
+            panels = [[(symbol(n), c[1], line) for n, c in zip(names, curves)]] if shared else \
+                [[(symbol(n), c[1], line)] for n, c in zip(names, curves)]
+            for ax, panel in zip(axes, panels):
+                draw_curves(ax, curves[0][0], panel)
+            for ax, (xv, yv, xl, yl, where) in zip(axes, curves):
                 ax.set_ylabel(axis_label("k / k at position 0" if normalise == "first" else "k / mean over the period",
                                          "1") if shared and len(names) > 1 else yl)
             if shared and len(names) > 1:
                 axes[0].legend()
             axes[-1].set_xlabel(curves[0][2])
-            where = curves[0][4]
-            axes[0].set_title(f"{_bearing_title(ds)}, one ball-pass period (Z = {ds.attrs['period_order']})"
-                              + (f"\nat {', '.join(where)}" if where else ""))
+            axes[0].set_title(f"{_bearing_title(ds)}, one ball-pass period (Z = {ds.attrs['period_order']}), "
+                              f"{positions} cage positions" + _where_text(ds, ("position",), curves[0][4]))
             return _finish(fig, out, overwrite)
 
 
@@ -518,7 +615,8 @@ def plot_spectrum(source, var=PAPER_ENTRIES, *, at=None, normalise: str = "mean"
             where = []
             for k, name in enumerate(names):
                 i, j = k_entry(name)
-                amp, _, where = select(ds, ds["K_amplitude"].isel(dof=i, dof_col=j), ("harmonic",), at, default="first")
+                amp, _, where = select(ds, ds["K_amplitude"].isel(dof=i, dof_col=j), ("harmonic",), at,
+                                       default="first", base_units=base_units)
                 a = amp.values
                 if shared:
                     if a[0] == 0:
@@ -538,7 +636,7 @@ def plot_spectrum(source, var=PAPER_ENTRIES, *, at=None, normalise: str = "mean"
             axes[-1].set_xlabel(axis_label("frequency", "Hz") if has_f else
                                 axis_label("harmonic order of the ball-pass frequency", "1"))
             axes[0].set_title(f"{_bearing_title(ds)}: harmonics of Kb over the ball passage"
-                              + (f"\nat {', '.join(where)}" if where else ""))
+                              + _where_text(ds, ("harmonic",), where))
             return _finish(fig, out, overwrite)
 
 
@@ -583,8 +681,10 @@ def plot_load_zone(bearing, q, *, title: str | None = None, out=None, overwrite:
             for a, v in zip(p, load):
                 ax.plot([a, a], [0, v], color="C0", linewidth=1.2)
             loaded = load > 0
-            ax.plot(p[loaded], load[loaded], "o", color="C0", markersize=5)
-            ax.plot(p, np.full(p.size, top), "o", color="0.6", markersize=3, clip_on=False)
+            handles = ax.plot(p[loaded], load[loaded], "o", color="C0", markersize=5,
+                              label="loaded ball (radius: its load Q)")
+            handles += ax.plot(p, np.full(p.size, top), "o", color="0.6", markersize=3, clip_on=False,
+                               label="ball positions: every ball of the row, loaded or not (on the rim)")
             ax.set_ylim(0, top)
             ax.set_xticks(np.arange(8) * np.pi / 4)
             ax.set_xticklabels(["0", r"$\pi/4$", r"$\pi/2$", r"$3\pi/4$", r"$\pi$", r"$5\pi/4$", r"$3\pi/2$",
@@ -600,6 +700,7 @@ def plot_load_zone(bearing, q, *, title: str | None = None, out=None, overwrite:
             ax.set_title(f"row {r}: z = {row.axial_offset:g} mm, contact direction {row.contact_direction:+d}\n"
                          f"{int(loaded.sum())} of {row.n_balls} balls loaded, max Q = {load.max():.4g} N"
                          + angles, fontsize=9)
+        _figure_legend(fig, handles, ncol=2)
         q = np.asarray(q, dtype=float)
         # rounding noise of components that vanish by symmetry reads as 0
         size_q = max(np.abs(q[:3]).max(), bearing.length_scale * np.abs(q[3:]).max(), 1e-300)
