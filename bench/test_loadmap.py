@@ -66,3 +66,77 @@ def test_loadmap_slice(benchmark, tmp_path, threads):
     assert fb.open_dataset(out)["status"].size == 99_000
     if not benchmark.disabled:  # --benchmark-disable: a smoke run, no figures
         benchmark.extra_info["cases_per_s"] = 99_000 / benchmark.stats.stats.median
+
+
+LIFE_CHILD = """
+import json, sys, time
+import fastbearing as fb
+doc = json.loads(sys.argv[1])
+small = {**doc, "loadmap": {**doc["loadmap"], "Fx": {**doc["loadmap"]["Fx"], "num": 2}}}
+fb.loadmap(small, sys.argv[2] + ".warm.h5", overwrite=True, progress=False)  # kernels compiled or loaded first
+t = time.perf_counter()
+fb.loadmap(doc, sys.argv[2], overwrite=True, progress=False)
+print(json.dumps({"wall_s": time.perf_counter() - t}))
+"""
+
+
+@pytest.mark.benchmark(group="the 1M-case example grid on the SKF 3306 A (geometry), with and without life = true")
+def test_life_overhead(benchmark, tmp_path):
+    """Rating life adds per case only sums over the balls already loaded: the cost of life = true."""
+    doc = tomllib.loads(EXAMPLE.read_text())
+    bearing = tomllib.loads((EXAMPLE.parents[1] / "bearings" / "3306.toml").read_text())["bearing"]
+
+    def wall(life):
+        config = {"bearing": bearing, "loadmap": {**doc["loadmap"], "life": life}}
+        p = subprocess.run([sys.executable, "-c", LIFE_CHILD, json.dumps(config), str(tmp_path / f"m{life}.h5")],
+                           capture_output=True, text=True, timeout=600)
+        assert p.returncode == 0, p.stderr
+        return json.loads(p.stdout.strip().splitlines()[-1])["wall_s"]
+
+    def run():  # alternating, three of each: this VM's speed drifts from minute to minute
+        pairs = [(wall(False), wall(True)) for _ in range(1 if benchmark.disabled else 3)]
+        return sorted(p[0] for p in pairs)[len(pairs) // 2], sorted(p[1] for p in pairs)[len(pairs) // 2]
+
+    without, with_life = benchmark.pedantic(run, rounds=1, iterations=1)
+    if not benchmark.disabled:
+        benchmark.extra_info.update(without_life_median_s=without, with_life_median_s=with_life,
+                                    overhead=with_life / without - 1)
+
+
+@pytest.mark.benchmark(group="one 65 536-case block of the 1M grid on the SKF 3306 A, with and without life, 1 thread")
+def test_life_block_overhead(benchmark):
+    """The same, in process on one thread and without HDF5: what life adds to the compute of a block
+    (alternating, eight of each, medians)."""
+    import importlib
+    import time
+
+    import numpy as np
+
+    from fastbearing import storage
+
+    loadmap = importlib.import_module("fastbearing.loadmap")
+    doc = tomllib.loads(EXAMPLE.read_text())
+    bearing = tomllib.loads((EXAMPLE.parents[1] / "bearings" / "3306.toml").read_text())["bearing"]
+    setups = {}
+    for life in (False, True):
+        cfg = loadmap.read_config({"bearing": bearing, "loadmap": {**doc["loadmap"], "life": life}})
+        job = loadmap.job(cfg)
+        n = 65536
+        inputs = cfg.cases.inputs(0, n)
+        res = storage.allocate(job.variables, job.sizes, n)
+        setups[life] = (job, inputs, res, np.zeros(1, np.int64))
+
+    def run():
+        times = {False: [], True: []}
+        with fb.num_threads(1):
+            for _ in range(1 if benchmark.disabled else 8):
+                for life, (job, inputs, res, stop) in setups.items():
+                    t = time.perf_counter()
+                    job.compute(inputs, res, 0, stop)
+                    times[life].append(time.perf_counter() - t)
+        return {k: sorted(v)[len(v) // 2] for k, v in times.items()}
+
+    medians = benchmark.pedantic(run, rounds=1, iterations=1)
+    if not benchmark.disabled:
+        benchmark.extra_info.update(without_life_s=medians[False], with_life_s=medians[True],
+                                    overhead=medians[True] / medians[False] - 1)

@@ -23,6 +23,7 @@ from .bearing_file import bearing_from_table, load_bearing
 from .contacts import BallContacts, ball_contacts
 from .geometry import (MATERIALS, SILICON_NITRIDE, STEEL, Geometry, HertzContact, Material, geometry_from_table,
                        hertz_contact, race_contacts)
+from .life import LifeResult, rating_life
 from .loadmap import loadmap, open_dataset
 from .passage import passage
 
@@ -34,4 +35,5 @@ except PackageNotFoundError:  # running from a source tree
 __all__ = ["ARRANGEMENTS", "Bearing", "Row", "SolveManyResult", "SolveResult", "ball_loads", "bearing_from_table",
            "load_bearing", "loadmap", "num_threads", "open_dataset", "passage", "preset_names", "solve", "solve_many", "status", "stiffness",
            "stiffness_many", "MATERIALS", "STEEL", "SILICON_NITRIDE", "BallContacts", "Geometry", "HertzContact",
-           "Material", "ball_contacts", "geometry_from_table", "hertz_contact", "race_contacts"]
+           "Material", "ball_contacts", "geometry_from_table", "hertz_contact", "race_contacts", "LifeResult",
+           "rating_life"]

@@ -99,6 +99,17 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--balls", action="store_true", help="also report every ball: azimuth, deflection, load Q, "
                    "contact angle and, for a bearing with [bearing.geometry], the maximum Hertz pressure and "
                    "contact-ellipse semi-axes at the inner and outer race")
+    p.add_argument("--life", action="store_true", help="also the rating life (needs [bearing.geometry]): C, P, "
+                   "L10 (ISO 281) and L10r (ISO/TS 16281, from the load distribution) per row and for the "
+                   "bearing, in million revolutions; static safety S0")
+    p.add_argument("--speed", type=float, metavar="RPM", help="shaft speed in rpm (> 0): lives also in hours "
+                   "(the stiffness stays quasi-static)")
+    p.add_argument("--rotating", choices=["inner", "outer"], default="inner",
+                   help="the ring rotating relative to the load, for --life (default inner)")
+    p.add_argument("--kappa", type=float, metavar="K", help="viscosity ratio kappa in [0.1, 4] for --life: "
+                   "adds the ISO 281 life-modification factor a_ISO and L_nmr = a_ISO L10r")
+    p.add_argument("--contamination", type=float, metavar="EC", default=1.0,
+                   help="contamination factor e_C in [0, 1] for --kappa (default 1: very clean)")
     b = sub.add_parser("bearing", help="derived model parameters of a bearing file (Kn, A0, R, rL, ...)",
                        description=(
                            "Print a bearing file's model parameters with units: Hertz constant Kn, groove-centre "
@@ -147,6 +158,9 @@ def build_parser() -> argparse.ArgumentParser:
     sh.add_argument("--json", action="store_true", help="print one JSON object (q, K_system, bearings, "
                     "frequencies)")
     sh.add_argument("--method", choices=list(METHODS), default="newton", help="solver (default newton)")
+    sh.add_argument("--life", action="store_true", help="each bearing's rating life at its reaction and the "
+                    "system's (weakest link), million revolutions; needs [bearing.geometry] in every bearing")
+    sh.add_argument("--speed", type=float, metavar="RPM", help="shaft speed in rpm for --life: lives in hours too")
     ex = sub.add_parser("export", help="write Kb for other tools: csv, json, npz, Nastran DMIG, ROSS",
                         description=(
                             "Export Kb from a `solve --json` or `shaft --json` output (.json) or from a load map "
@@ -365,6 +379,16 @@ def _shaft(args) -> int:
     shaft = read_shaft(args.config)
     result = solve_shaft(shaft, method=args.method)
     out = result.to_dict()
+    if args.speed is not None and not args.life:
+        raise ValueError("--speed goes with --life")
+    if args.life and result.solution.converged:
+        from .life import LifeSettings
+        from .shaft import shaft_life
+
+        life = shaft_life(shaft, result, LifeSettings(speed=args.speed))
+        for b, lf in zip(out["bearings"], life["bearings"]):
+            b["life"] = lf
+        out["system_L10r"], out["system_L10r_hours"] = life["system_L10r"], life["system_L10r_hours"]
     if shaft.inertia is not None:
         M = shaft.inertia.matrix(shaft.reference)
         out["frequencies_hz"] = natural_frequencies(result.K_system, M).frequencies.tolist()
@@ -381,6 +405,13 @@ def _shaft(args) -> int:
               + "  ".join(f"{v:.6g}" for v in b.reaction))
         print("  q (mm, rad): " + "  ".join(f"{v:.6g}" for v in b.q))
         print("  Kb diagonal (N/mm, N/mm, N/mm, N*mm/rad, N*mm/rad): " + "  ".join(f"{v:.6g}" for v in np.diag(b.K)))
+        if "life" in out["bearings"][i]:
+            lf = out["bearings"][i]["life"]
+            print(f"  life: L10r = {lf['L10r']:.6g} million revolutions (ISO/TS 16281); L10 = "
+                  + ("-" if lf["L10"] is None else f"{lf['L10']:.6g}") + " (ISO 281)")
+    if "system_L10r" in out:
+        hours = "" if out["system_L10r_hours"] is None else f" ({out['system_L10r_hours']:.6g} h)"
+        print(f"system life (weakest link of the bearings' L10r): {out['system_L10r']:.6g} million revolutions{hours}")
     if "frequencies_hz" in out:
         print("natural frequencies (Hz), full Kb:      " + "  ".join(f"{v:.1f}" for v in out["frequencies_hz"]))
         print("natural frequencies (Hz), diagonal only: "
@@ -596,6 +627,16 @@ def _table(result: dict) -> str:
 
 def _solve(args) -> int:
     bearing = _bearing(args)
+    if not args.life and (args.speed is not None or args.kappa is not None or args.rotating != "inner"
+                          or args.contamination != 1.0):
+        raise ValueError("--speed, --rotating, --kappa and --contamination go with --life")
+    settings = None
+    if args.life:
+        from .life import LifeSettings, ratings
+
+        settings = LifeSettings(rotating=args.rotating, speed=args.speed, kappa=args.kappa,
+                                contamination=args.contamination)
+        ratings(bearing)  # a bearing without geometry is refused before the solve
     if args.load is not None:
         result = solve(bearing, _five_numbers(args.load, "--load"), method=args.method).to_dict()
     else:
@@ -608,13 +649,46 @@ def _solve(args) -> int:
                   "converged": True, "iterations": 0, "residual": 0.0}
     if args.balls:
         result["balls"] = ball_contacts(bearing, result["q"]).to_records()
+    if settings is not None and result["converged"]:
+        from .life import life
+
+        result["life"] = life(bearing, result["f"] if args.load is None else _five_numbers(args.load, "--load"),
+                              result["q"], settings).to_dict()
+        if args.speed is not None:
+            result["speed"] = args.speed
     if args.json:
         print(json_text(result))
     else:
         print(_table(result))
         if args.balls:
             print(_balls_text(result["balls"]))
+        if "life" in result:
+            print(_life_text(result["life"]))
     return 0 if result["converged"] else 1
+
+
+def _life_text(life: dict) -> str:
+    """The life block of ``solve --life``: loads N, lives in million revolutions (and hours)."""
+    def g(v, unit=""):
+        return "-" if v is None else f"{v:.6g}{unit}"
+
+    def hours(v):
+        return "" if v is None or life["speed"] is None else f" ({v * 1e6 / (60.0 * life['speed']):.6g} h)"
+
+    lines = ["life (N; million revolutions" + (f"; hours at {life['speed']:g} rpm" if life["speed"] else "") + "):"]
+    for k, L in enumerate(life["L10r_row"]):
+        lines.append(f"  row {k}: C = {g(life['C_row'][k])}  Q_ci = {g(life['Q_ci'][k])}  Q_ce = {g(life['Q_ce'][k])}"
+                     f"  Q_ei = {g(life['Q_ei'][k])}  Q_ee = {g(life['Q_ee'][k])}  L10r = {g(L)}{hours(L)}")
+    lines.append(f"  bearing: C = {g(life['C'])}  C0 = {g(life['C0'])}  P = {g(life['P'])}  P0 = {g(life['P0'])}"
+                 f"  S0 = {g(life['static_safety'])}")
+    lines.append(f"  L10 (ISO 281) = {g(life['L10'])}{hours(life['L10'])}  L10r (ISO/TS 16281) = {g(life['L10r'])}"
+                 f"{hours(life['L10r'])}")
+    if life["max_contact_pressure"] is not None:
+        lines.append(f"  largest contact pressure {life['max_contact_pressure']:.6g} N/mm^2 (limit 4200)")
+    if life["a_iso"] is not None:
+        lines.append(f"  a_ISO = {life['a_iso']:.4g}  L_nmr = {g(life['L_nmr'])}{hours(life['L_nmr'])}")
+    lines += [f"  note: {n}" for n in life["notes"]]
+    return "\n".join(lines)
 
 
 def main(argv=None) -> int:

@@ -336,6 +336,11 @@ class Geometry:
         bearings, ISO 76); the rows' ``deflection_limit`` is the ball
         deflection at which the more loaded race contact reaches it at a0.
         > 0.
+    dynamic_load_rating, static_load_rating : float or None
+        The catalogue's C and C0 of the bearing as listed, N (> 0): a single row's, or a double row's
+        (DB, DF, DT) as a unit, whose rows then get C / 2^0.7 and C0 / 2 (ISO 281, ISO 76); for rows of
+        your own (``rows``), each row's. None: ISO 281 / ISO 76 from this geometry
+        (:mod:`fastbearing.life`).
 
     Notes
     -----
@@ -364,6 +369,8 @@ class Geometry:
     ring_material: Material = STEEL
     ellipticity: str = "exact"
     contact_pressure_limit: float = CONTACT_PRESSURE_LIMIT
+    dynamic_load_rating: float | None = None
+    static_load_rating: float | None = None
 
     def __post_init__(self):
         v = validate
@@ -406,6 +413,9 @@ class Geometry:
         v.choice(self.ellipticity, "ellipticity", ELLIPTICITY_METHODS)
         set_(self, "contact_pressure_limit", v.number(self.contact_pressure_limit, "contact_pressure_limit", low=0,
                                                       low_open=True, units="N/mm^2"))
+        for name in ("dynamic_load_rating", "static_load_rating"):
+            if getattr(self, name) is not None:
+                set_(self, name, v.number(getattr(self, name), name, low=0, low_open=True, units="N"))
 
     # -- derived model parameters ------------------------------------------------------
     # (docs/model.md, "Hertz constant from geometry (for bearings given by catalogue dimensions)")
@@ -524,7 +534,7 @@ def load_centre_spread(arrangement: str, row_offset: float, pitch_radius: float,
 GEOMETRY_KEYS = ("n_balls", "ball_diameter", "pitch_diameter", "inner_groove_ratio", "outer_groove_ratio",
                  "contact_angle", "diametral_clearance", "row_spacing", "youngs_modulus", "poisson_ratio",
                  "ball_youngs_modulus", "ring_youngs_modulus", "ball_poisson_ratio", "ring_poisson_ratio",
-                 "material", "ellipticity", "contact_pressure_limit")
+                 "material", "ellipticity", "contact_pressure_limit", "dynamic_load_rating", "static_load_rating")
 _REQUIRED = ("n_balls", "ball_diameter", "pitch_diameter", "inner_groove_ratio", "outer_groove_ratio")
 
 
@@ -568,7 +578,8 @@ def geometry_from_table(table: dict, where: str = "bearing.geometry") -> Geometr
     validate.table(table, where, GEOMETRY_KEYS, _REQUIRED)
     ball, ring = _material_values(table, where)
     values = {k: table[k] for k in _REQUIRED + ("contact_angle", "diametral_clearance", "row_spacing", "ellipticity",
-                                                "contact_pressure_limit") if k in table}
+                                                "contact_pressure_limit", "dynamic_load_rating",
+                                                "static_load_rating") if k in table}
     try:
         return Geometry(**values, ball_material=ball, ring_material=ring)
     except validate.FieldError as err:

@@ -22,12 +22,13 @@ from .bearing_file import read_job_config
 from .dofs import AXES, UNITS
 from .grid import Axis, CaseSet, parse_axis, read_case_file, segment_starts
 from .jobs import open_dataset  # noqa: F401 (public: fb.open_dataset)
+from .life import LifeSettings, life_table, ratings
 from .sweep import map_sweep
 
 DEFAULT_CHUNK = 65536
 #: Largest block: one block's results are in memory at once (about 400 bytes a case).
 MAX_CHUNK = 4_000_000
-_LOADMAP_KEYS = {"given", "cases", "chunk", "compression", "method", "rtol", "max_iter"}
+_LOADMAP_KEYS = {"given", "cases", "chunk", "compression", "method", "rtol", "max_iter", "life"}
 
 
 @dataclass(frozen=True)
@@ -44,6 +45,22 @@ class LoadMapConfig:
     text: str
     source: Path | None
     fingerprint: str
+    life: LifeSettings | None = None
+
+
+def read_life(spec, where: str) -> LifeSettings | None:
+    """``life = true`` (inner ring rotating) or ``life = { rotating = "outer" }``; false or absent: None."""
+    if spec is None or spec is False:
+        return None
+    if spec is True:
+        return LifeSettings()
+    if isinstance(spec, dict):
+        validate.table(spec, where, ("rotating",))
+        try:
+            return LifeSettings(rotating=spec.get("rotating", "inner"))
+        except validate.FieldError as err:
+            raise err.within(where) from None
+    raise validate.FieldError(where, "must be true, false or a table { rotating = \"inner\" | \"outer\" }", spec)
 
 
 def read_config(config) -> LoadMapConfig:
@@ -85,35 +102,56 @@ def read_config(config) -> LoadMapConfig:
             axes.append(Axis(name, values, units, is_dim))
         cases = CaseSet(given, axes=tuple(axes))
     cases.check_size("loadmap")
+    life_settings = read_life(spec.get("life"), "loadmap.life")
+    if life_settings is not None:
+        ratings(bearing)  # a bearing without geometry has no rating: said before anything runs
     return LoadMapConfig(bearing, cases, chunk, compression, method, rtol, max_iter, text, source,
-                         digest.hexdigest())
+                         digest.hexdigest(), life_settings)
 
 
-def compute_block(bearing: Bearing, given_load: bool, line_length: int, settings, inputs: np.ndarray,
+def compute_block(bearing: Bearing, given_load: bool, line_length: int, settings, life, inputs: np.ndarray,
                   res: dict, first: int, stop: np.ndarray) -> None:
     """Fill the result arrays ``res`` (one block's, see :func:`variables`) for ``inputs`` (n, 5), the
     flat cases from ``first`` on; ``stop[0] != 0`` (Ctrl-C) ends it early, leaving the block incomplete.
 
     The work unit of a map: local runs and Dask workers both call it, on the
     same blocks, which is why their outputs are identical bit for bit.
+    ``life``: None, or (LifeSettings, BearingRatings) for the life variables.
     """
     balls = bearing.ball_set()
     ball_row = balls[0][ROW].astype(np.int64)
     segments = segment_starts(first, first + inputs.shape[0], line_length)
+    if life is None:
+        table, C0 = np.empty((0, 6)), 0.0
+        L10r, L10r_row, safety = np.empty(1), np.empty((1, bearing.n_rows)), np.empty(1)
+    else:
+        table, C0 = life
+        L10r, L10r_row, safety = res["L10r"], res["L10r_row"], res["static_safety"]
     map_sweep(inputs, given_load, segments, res["q"], res["f"], res["K"], res["status"], res["iterations"],
               res["residual"], res["max_ball_load"], res["loaded_balls"], res["min_contact_angle"],
-              res["max_contact_angle"], balls, ball_row, settings, stop)
+              res["max_contact_angle"], balls, ball_row, settings, stop, table, C0, L10r, L10r_row, safety)
 
 
 def job(cfg: LoadMapConfig) -> jobs.Job:
     """The load map as a job for the runner."""
     settings = solver_settings(cfg.bearing, cfg.method, cfg.rtol, cfg.max_iter)
     given_load = cfg.cases.given == "load"
+    variables = storage.result_variables(cfg.cases.given)
+    life = None
+    attrs = {}
+    if cfg.life is not None:
+        r = ratings(cfg.bearing)
+        life = (life_table(r, cfg.life), r.C0 if r.C0 is not None else float("nan"))
+        variables += storage.life_variables()
+        attrs = {"life_rotating_ring": cfg.life.rotating, "dynamic_load_rating_N": r.C or float("nan"),
+                 "static_load_rating_N": r.C0 or float("nan"),
+                 "row_dynamic_load_rating_N": r.C_row, "contact_rating_inner_N": r.Q_ci,
+                 "contact_rating_outer_N": r.Q_ce}
     return jobs.Job(
         kind="load map", bearing=cfg.bearing, cases=cfg.cases,
-        variables=tuple(storage.result_variables(cfg.cases.given)),
+        variables=tuple(variables), attrs=attrs,
         sizes={"dof": 5, "dof_col": 5, "row": cfg.bearing.n_rows},
-        compute=partial(compute_block, cfg.bearing, given_load, cfg.cases.line_length, settings),
+        compute=partial(compute_block, cfg.bearing, given_load, cfg.cases.line_length, settings, life),
         settings=settings, method=cfg.method, chunk=cfg.chunk, text=cfg.text, source=cfg.source,
         fingerprint=cfg.fingerprint, compression=cfg.compression, line_length=cfg.cases.line_length,
         kernel="sweep.map_sweep")

@@ -42,6 +42,11 @@ DEFAULT_DPI = 100
 ROW_VARIABLES = {"max_ball_load": ("N", "largest ball load"), "loaded_balls": ("1", "loaded balls"),
                  "min_contact_angle": ("rad", "smallest loaded contact angle"),
                  "max_contact_angle": ("rad", "largest loaded contact angle")}
+#: Rating-life variables of a map with ``life = true`` (units, description); drawn on a log colour scale.
+LIFE_VARIABLES = {"L10r": ("million revolutions", "rating life L10r"),
+                  "L10r_row": ("million revolutions", "rating life L10r of a row"),
+                  "static_safety": ("1", "static safety S0")}
+LOG_VARIABLES = ("L10r", "L10r_row")
 NORMALISE = ("none", "first", "mean")
 PASSAGE_X = ("angle", "period", "time")
 #: The paper's Fig. 13/14 entries, the default of passage plots.
@@ -148,7 +153,7 @@ def symbol(name: str) -> str:
         return rf"$\{'delta' if name[0] == 'd' else 'beta'}_{name[1]}$"
     if name in LOAD_NAMES:
         return rf"${name[0]}_{name[1]}$"
-    return ROW_VARIABLES.get(name, (None, name.replace("_", " ")))[1]
+    return {**ROW_VARIABLES, **LIFE_VARIABLES}.get(name, (None, name.replace("_", " ")))[1]
 
 
 def scale_units(values, units: str, base_units: bool = False) -> tuple[float, str]:
@@ -289,6 +294,15 @@ def variable(ds, var: str, row=None):
         return ds["q"].isel(dof=DISPLACEMENT_NAMES.index(var)), _QUANTITY_UNITS[var]
     if var in LOAD_NAMES:
         return ds["f"].isel(dof=LOAD_NAMES.index(var)), _QUANTITY_UNITS[var]
+    if var in LIFE_VARIABLES:
+        if var not in ds:
+            raise ValueError(f"{var} is not in this file: compute the map with life = true in [loadmap]")
+        if var == "L10r_row" and row is not None:
+            n = ds.sizes["row"]
+            if isinstance(row, bool) or not isinstance(row, (int, np.integer)) or not 0 <= row < n:
+                raise ValueError(f"row must be an integer in [0, {n - 1}], got {row!r}")
+            return ds[var].isel(row=int(row)), LIFE_VARIABLES[var][0]
+        return ds[var], LIFE_VARIABLES[var][0]
     if var in ROW_VARIABLES:
         da = ds[var].astype(float)
         if row is not None:
@@ -298,8 +312,8 @@ def variable(ds, var: str, row=None):
             da = da.isel(row=int(row))
         return da, ROW_VARIABLES[var][0]
     raise ValueError(f"unknown variable {var!r}; use a Kb entry k + two of {', '.join(DOF)} (kxx, kzz, kxty, "
-                     f"ktyty ...), {', '.join(DISPLACEMENT_NAMES)} (q), {', '.join(LOAD_NAMES)} (f) or "
-                     f"{', '.join(ROW_VARIABLES)}")
+                     f"ktyty ...), {', '.join(DISPLACEMENT_NAMES)} (q), {', '.join(LOAD_NAMES)} (f), "
+                     f"{', '.join(ROW_VARIABLES)} or (maps with life) {', '.join(LIFE_VARIABLES)}")
 
 
 def _axis_units(ds, name: str) -> str:
@@ -413,31 +427,44 @@ def plot_map(source, var: str, x: str, y: str, *, at=None, row=None, kind: str =
         da, status, where = select(ds, da, (x, y), at, base_units=base_units)
         ok = st.converged_mask(status.transpose(y, x).values)
         if "row" in da.dims:  # a per-row variable over all rows: the bearing's total, smallest or largest
-            da = {"loaded_balls": da.sum, "min_contact_angle": da.min}.get(var, da.max)("row")
+            da = {"loaded_balls": da.sum, "min_contact_angle": da.min, "L10r_row": da.min}.get(var, da.max)("row")
         z = np.where(ok, da.transpose(y, x).values, np.nan)
+        log = var in LOG_VARIABLES
+        unbounded = int(np.isinf(z).sum())
+        z = np.where(np.isinf(z), np.nan, z)  # an unloaded case lives for ever: blank, and said so
         xv, yv = ds[x].values, ds[y].values
         with style():
             fig = new_figure(size, dpi)
             ax = fig.add_subplot()
             fx, ux = scale_units(xv, _axis_units(ds, x), base_units)
             fy, uy = scale_units(yv, _axis_units(ds, y), base_units)
-            fz, uz = scale_units(z, units, base_units)
+            fz, uz = (1.0, units) if var in LIFE_VARIABLES else scale_units(z, units, base_units)
             finite = z[np.isfinite(z)]
             flat = finite.size == 0 or np.ptp(finite) <= 1e-12 * max(1.0, np.abs(finite).max())
-            if kind == "heatmap" or flat:
+            if log and finite.size and finite.min() > 0 and not flat:
+                from matplotlib import colors, ticker
+
+                if kind == "heatmap":
+                    mesh = ax.pcolormesh(xv * fx, yv * fy, z, shading="nearest", norm=colors.LogNorm())
+                else:
+                    mesh = ax.contourf(xv * fx, yv * fy, z, locator=ticker.LogLocator(subs=(1.0, 2.0, 5.0)),
+                                       norm=colors.LogNorm())
+                    ax.contour(mesh, colors="k", linewidths=0.4, alpha=0.6)
+            elif kind == "heatmap" or flat:
                 mesh = ax.pcolormesh(xv * fx, yv * fy, z * fz, shading="nearest")
             else:
                 mesh = ax.contourf(xv * fx, yv * fy, z * fz, levels=levels)
                 ax.contour(mesh, colors="k", linewidths=0.4, alpha=0.6)
             bar = fig.colorbar(mesh, ax=ax)
-            what = symbol(var) + ("" if row is None or var not in ROW_VARIABLES else f", row {row}")
+            what = symbol(var) + ("" if row is None or var not in (*ROW_VARIABLES, "L10r_row") else f", row {row}")
             bar.set_label(axis_label(what, uz))
             ax.set_xlabel(axis_label(symbol(x), ux))
             ax.set_ylabel(axis_label(symbol(y), uy))
             ax.grid(False)
             blank = int((~ok).sum())
             ax.set_title(f"{what} of {_bearing_title(ds)}" + (f" at {', '.join(where)}" if where else "")
-                         + (f"\n{blank} case(s) not converged (blank)" if blank else ""))
+                         + (f"\n{blank} case(s) not converged (blank)" if blank else "")
+                         + (f"\n{unbounded} unloaded case(s): unbounded life (blank)" if unbounded else ""))
             return _finish(fig, out, overwrite)
 
 

@@ -154,6 +154,22 @@ def solve_shaft(shaft: Shaft, method: str = "newton") -> ShaftResult:
     return ShaftResult(result, result.K, tuple(states), shaft.reference)
 
 
+def shaft_life(shaft: Shaft, result: ShaftResult, settings=None) -> dict:
+    """Each bearing's rating life at its own reaction and the system's (weakest link: (sum L^(-10/9))^(-0.9)
+    of the bearings' L10r), million revolutions; needs [bearing.geometry] in every bearing."""
+    from .life import LifeSettings, combine, life
+
+    settings = settings or LifeSettings()
+    lives = []
+    for i, (mb, state) in enumerate(zip(shaft.bearings, result.bearings)):
+        if getattr(mb.bearing, "geometry", None) is None:
+            raise ValueError(f"shaft.bearings[{i}]: life needs the bearing's geometry ([bearing.geometry])")
+        lives.append(life(mb.bearing, state.reaction, state.q, settings).to_dict())
+    system = float(combine([b["L10r"] for b in lives]))
+    return {"bearings": lives, "system_L10r": system,
+            "system_L10r_hours": None if settings.speed is None else system * 1e6 / (60.0 * settings.speed)}
+
+
 def stiffness_at(result: ShaftResult, position: float) -> np.ndarray:
     """The system stiffness seen at another axial position (mm): T^-T K T^-1."""
     T_inv = transfer(-(position - result.reference))

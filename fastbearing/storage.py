@@ -93,6 +93,17 @@ def result_variables(given: str, inner: tuple[str, ...] = ()) -> list[Variable]:
     ]
 
 
+def life_variables() -> list[Variable]:
+    """The rating-life variables of a map with ``life = true`` (fastbearing.life)."""
+    V = _inner_variable(())
+    return [
+        V("L10r", (), "f8", "million revolutions",
+          "modified reference rating life L10r of the bearing (ISO/TS 16281; nan where the case did not converge)"),
+        V("L10r_row", ("row",), "f8", "million revolutions", "modified reference rating life L10r of each row"),
+        V("static_safety", (), "f8", "1", "static safety factor S0 = C0/P0 (ISO 76) of the bearing as a unit"),
+    ]
+
+
 def allocate(variables: list[Variable], sizes: dict[str, int], n: int) -> dict[str, np.ndarray]:
     """Result arrays for ``n`` cases from the one description of the variables (``sizes``: length of
     each trailing dim by name): what a block computes into, here or on a Dask worker."""

@@ -5,6 +5,8 @@ case, so a case's result never depends on the thread count or on which
 thread ran it.
 """
 
+import math
+
 import numpy as np
 from numba import njit, prange, types
 from numba.extending import intrinsic
@@ -13,7 +15,7 @@ from .config import CACHE, ERROR_MODEL
 from .kernel import ball_loop
 from .linalg import cholesky_solve
 from .solver import WORK_ROWS, solve_case
-from .status import CONVERGED, NONFINITE_RESULT, OUTCOME_MASK
+from .status import CONVERGED, NONFINITE_RESULT, OUTCOME_MASK, UNLOADED
 
 
 @intrinsic
@@ -88,6 +90,66 @@ def row_summary(ball_load, contact_angle, ball_row, max_load, n_loaded, min_angl
             max_angle[r] = np.nan
 
 
+@njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True)
+def cube_root(x, bits, as_int):
+    """x^(1/3) for x > 0, to a few ulp, in about half the time of libm's cbrt: an exponent-third guess
+    from the float's bits (``bits``: a 1-element float64 scratch array, ``as_int`` its int64 view), then
+    three Halley steps (cubic convergence from a guess within about 5 %)."""
+    bits[0] = x
+    as_int[0] = as_int[0] // 3 + 0x2A9F7893782DA1CE
+    y = bits[0]
+    for _ in range(3):
+        y3 = y * y * y
+        y = y * (y3 + 2.0 * x) / (2.0 * y3 + x)
+    return y
+
+
+#: Rows of the ``life`` parameter table (rows, 6) a map's sweep reads (life.life_table builds it).
+LIFE_CI, LIFE_CE, LIFE_Z, LIFE_INNER, LIFE_X0, LIFE_Y0 = range(6)
+
+
+@njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True)
+def case_life(ball_load, ball_row, life, sums, L_row, bits, as_int):
+    """ISO/TS 16281 L10r (million revolutions) of one case from its ball loads (N); fills ``L_row`` per row.
+
+    With Q_ei, Q_ee the cubic and 10/3 means over a row's Z balls (rotating and stationary ring),
+    (Q_c/Q_e)^(-10/3) is Q_c^(-10/3) (S3/Z)^(10/9) for the cubic mean and Q_c^(-10/3) S10/Z for the other
+    (S3, S10: sums of Q^3, Q^(10/3)), so a row costs two powers; and since rows combine with exponent
+    10/9 = 1/0.9, the bearing's L10r is (sum over rows of the rows' brackets)^(-0.9): one more.
+    ``life[r, LIFE_CI]``, ``[LIFE_CE]`` hold Q_ci^(-10/3), Q_ce^(-10/3); ``sums`` (rows, 2), ``bits``
+    (1,) and its int64 view ``as_int`` are scratch.
+    """
+    n_rows = sums.shape[0]
+    for r in range(n_rows):
+        sums[r, 0] = 0.0
+        sums[r, 1] = 0.0
+    for j in range(ball_load.shape[0]):
+        Q = ball_load[j]
+        if Q > 0.0:
+            cube = Q * Q * Q
+            sums[ball_row[j], 0] += cube
+            sums[ball_row[j], 1] += cube * cube_root(Q, bits, as_int)
+    total = 0.0
+    for r in range(n_rows):
+        cubic = (sums[r, 0] / life[r, LIFE_Z]) ** (10.0 / 9.0)
+        ten = sums[r, 1] / life[r, LIFE_Z]
+        if life[r, LIFE_INNER] != 0.0:
+            bracket = life[r, LIFE_CI] * cubic + life[r, LIFE_CE] * ten
+        else:
+            bracket = life[r, LIFE_CI] * ten + life[r, LIFE_CE] * cubic
+        L_row[r] = bracket ** -0.9 if bracket > 0.0 else np.inf
+        total += bracket
+    return total ** -0.9 if total > 0.0 else np.inf
+
+
+@njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True)
+def static_safety(load, life, C0):
+    """ISO 76 S0 = C0 / max(X0 Fr + Y0 Fa, Fr) under ``load`` (N); inf without load."""
+    Fr = math.hypot(load[0], load[1])
+    P0 = max(life[0, LIFE_X0] * Fr + life[0, LIFE_Y0] * abs(load[2]), Fr)
+    return C0 / P0 if P0 > 0.0 else np.inf
+
+
 #: Lines of a block are shared among this many scratch groups, a fixed number,
 #: so the work a case sees never depends on the thread count.
 MAP_GROUPS = 64
@@ -149,7 +211,7 @@ def tangent_predictor(given_load, target, q_prev, f_prev, K_prev, q, scratch):
 
 @njit(parallel=True, cache=CACHE, error_model=ERROR_MODEL, nogil=True)
 def map_sweep(inputs, given_load, segments, q, f, K, status, iterations, residual, max_load, n_loaded,
-              min_angle, max_angle, balls, ball_row, settings, stop):
+              min_angle, max_angle, balls, ball_row, settings, stop, life, C0, L10r, L10r_row, safety):
     """One block of a load or displacement map, in place.
 
     ``balls`` is the bearing's ball set. ``inputs`` (N, 5) are loads (N, N*mm) when ``given_load`` else
@@ -158,8 +220,12 @@ def map_sweep(inputs, given_load, segments, q, f, K, status, iterations, residua
     starts cold and each later case starts from its neighbour's converged q
     by the tangent predictor, falling back to a cold start inside the solver
     when that fails. ``stop[0] != 0`` (set by Ctrl-C from another thread)
-    ends the sweep at the next case; the block is then incomplete.
+    ends the sweep at the next case; the block is then incomplete. With a
+    ``life`` table (rows, 6; life.life_table) of more than zero rows, L10r,
+    L10r_row and the static safety (with C0 in N; nan where a case did not
+    converge) are filled too (else they may be (1, ...) arrays, untouched).
     """
+    want_life = life.shape[0] > 0
     n_runs = segments.shape[0] - 1
     groups = min(n_runs, MAP_GROUPS)
     n_balls = balls[0].shape[1]
@@ -168,6 +234,9 @@ def map_sweep(inputs, given_load, segments, q, f, K, status, iterations, residua
         predictor = np.empty((7, 5))
         ball_load = np.empty(n_balls)
         contact_angle = np.empty(n_balls)
+        sums = np.empty((max(life.shape[0], 1), 2))
+        bits = np.empty(1)
+        as_int = bits.view(np.int64)
         for run in range(g, n_runs, groups):
             if stop_requested(stop):
                 break
@@ -181,6 +250,15 @@ def map_sweep(inputs, given_load, segments, q, f, K, status, iterations, residua
                     given_load, inputs[i], warm, q[i], f[i], K[i], balls, settings, work, ball_load, contact_angle)
                 row_summary(ball_load, contact_angle, ball_row, max_load[i], n_loaded[i], min_angle[i],
                             max_angle[i])
+                if want_life:
+                    if (status[i] & OUTCOME_MASK) == CONVERGED or (status[i] & OUTCOME_MASK) == UNLOADED:
+                        L10r[i] = case_life(ball_load, ball_row, life, sums, L10r_row[i], bits, as_int)
+                        safety[i] = static_safety(inputs[i] if given_load else f[i], life, C0)
+                    else:
+                        L10r[i] = np.nan
+                        safety[i] = np.nan
+                        for r in range(L10r_row.shape[1]):
+                            L10r_row[i, r] = np.nan
 
 
 @njit(parallel=True, cache=CACHE, error_model=ERROR_MODEL, nogil=True)
