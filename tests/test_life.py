@@ -190,3 +190,9 @@ def test_the_sweeps_cube_root_is_exact_to_a_few_ulp():
     x = np.geomspace(1e-12, 1e12, 2001)
     got = np.array([cube_root(v, bits, bits.view(np.int64)) for v in x])
     np.testing.assert_allclose(got, np.cbrt(x), rtol=1e-15, atol=0)   # within about 4 ulp
+
+
+def test_thrust_rows_are_refused_not_misrated():
+    b = fb.Geometry(12, 10.0, 60.0, 0.52, 0.53, contact_angle=60.0).bearing("single")
+    with pytest.raises(ValueError, match="thrust ball rows .* are not rated yet"):
+        fb.rating_life(b, (0, 0, 1000.0, 0, 0))
