@@ -128,7 +128,7 @@ def solver_settings(bearing: Bearing, method: str = "newton", rtol=None, max_ite
             max_iter, "max_iter", low=config.MAX_ITER_RANGE[0], high=config.MAX_ITER_RANGE[1]),
         length_scale=bearing.length_scale,
         # one fast-phase step may move at most half the smallest groove-centre distance
-        max_step=0.5 * min(r.groove_center_distance for r in bearing.rows),
+        max_step=0.5 * min(r.deflection_scale for r in bearing.rows),
     )
 
 
@@ -177,8 +177,8 @@ def ball_loads(bearing: Bearing, q) -> tuple[np.ndarray, np.ndarray]:
     """
     bearing = _check_bearing(bearing)
     q = _as_vector(q, "q", "dx, dy, dz in mm; bx, by in rad")
-    Q = np.empty(bearing.n_balls)
-    alpha = np.empty(bearing.n_balls)
+    Q = np.empty(bearing.n_elements)
+    alpha = np.empty(bearing.n_elements)
     ball_loop(q, bearing.ball_set(), np.empty(5), None, Q, alpha)
     return Q, alpha
 

@@ -18,8 +18,12 @@ from importlib import resources
 import numpy as np
 
 from . import validate
+from .rollers import (N_SLICE_COLUMNS, REQUIRED_ROLLER_KEYS, ROLLER_ELEMENTS, ROLLER_KEYS, RollerRow,
+                      slice_table)
 
-ARRANGEMENTS = ("single", "DB", "DF", "DT")
+ARRANGEMENTS = ("single", "DB", "DF", "DT", "TDO", "TDI")
+#: Tapered-roller names of the double-row arrangements: TDO back to back (as DB), TDI face to face (as DF).
+ARRANGEMENT_ALIASES = {"TDO": "DB", "TDI": "DF"}
 
 #: Contact direction (the paper's c3) of (row at z = -e, row at z = +e).
 _DOUBLE_ROW_DIRECTIONS = {"DB": (1, -1), "DF": (-1, 1), "DT": (1, 1)}
@@ -134,6 +138,15 @@ class Row:
             set_(self, "deflection_limit", v.number(self.deflection_limit, "deflection_limit", low=0, low_open=True,
                                                     units="mm"))
         self._check_clearance_and_preload()
+
+    @property
+    def n_elements(self) -> int:
+        return self.n_balls
+
+    @property
+    def deflection_scale(self) -> float:
+        """A length that bounds the solver's early Newton steps, mm: A0."""
+        return self.groove_center_distance
 
     @property
     def validity_deflection(self) -> float:
@@ -251,9 +264,9 @@ class Bearing:
     def __post_init__(self):
         rows = tuple(validate.array(self.rows, "rows", min_length=1))
         for i, row in enumerate(rows):
-            if not isinstance(row, Row):
-                raise validate.FieldError(f"rows[{i}]", f"must be a fastbearing.Row, not {type(row).__name__}",
-                                          show_value=False)
+            if not isinstance(row, (Row, RollerRow)):
+                raise validate.FieldError(f"rows[{i}]", f"must be a fastbearing.Row or RollerRow, not "
+                                          f"{type(row).__name__}", show_value=False)
         object.__setattr__(self, "rows", rows)
 
     # -- constructors -------------------------------------------------------
@@ -279,7 +292,7 @@ class Bearing:
         **row
             The remaining :class:`Row` keywords, shared by both rows.
         """
-        validate.choice(arrangement, "arrangement", tuple(_DOUBLE_ROW_DIRECTIONS))
+        validate.choice(arrangement, "arrangement", (*_DOUBLE_ROW_DIRECTIONS, *ARRANGEMENT_ALIASES))
         e = validate.number(row_offset, "row_offset", low=0, units="mm")
         fixed = sorted({"axial_offset", "contact_direction"} & set(row))
         if fixed:
@@ -287,7 +300,8 @@ class Bearing:
                                       "z = -e and +e); use Bearing.from_rows for rows of your own", row[fixed[0]])
         preloads = _per_row("axial_preload", axial_preload, 2)
         rows = []
-        for i, (z, s) in enumerate(zip((-e, e), _DOUBLE_ROW_DIRECTIONS[arrangement])):
+        directions = _DOUBLE_ROW_DIRECTIONS[ARRANGEMENT_ALIASES.get(arrangement, arrangement)]
+        for i, (z, s) in enumerate(zip((-e, e), directions)):
             rows.append(_row({**row, "axial_offset": z, "contact_direction": s, "axial_preload": preloads[i]}, f"rows[{i}]"))
         return cls(tuple(rows), arrangement=arrangement, name=name)
 
@@ -321,7 +335,7 @@ class Bearing:
             preloads = _per_row(f"{where}.axial_preload", table.pop("axial_preload", 0.0), len(rows))
             built = []
             for i, r in enumerate(rows):
-                validate.table(r, f"{where}.rows[{i}]", ROW_KEYS)
+                validate.table(r, f"{where}.rows[{i}]", ALL_ROW_KEYS)
                 built.append(_row({**table, "axial_preload": preloads[i], **r}, f"{where}.rows[{i}]"))
             return cls(tuple(built), arrangement="custom", name=name)
         arrangement = validate.choice(table.pop("arrangement", "single"), f"{where}.arrangement", ARRANGEMENTS)
@@ -360,9 +374,31 @@ class Bearing:
         return len(self.rows)
 
     @property
+    def ball_rows(self) -> list:
+        """(row index, Row) of the ball rows."""
+        return [(i, r) for i, r in enumerate(self.rows) if isinstance(r, Row)]
+
+    @property
+    def roller_rows(self) -> list:
+        """(row index, RollerRow) of the roller rows."""
+        return [(i, r) for i, r in enumerate(self.rows) if isinstance(r, RollerRow)]
+
+    @property
     def n_balls(self) -> int:
-        """Total number of balls over all rows."""
-        return sum(r.n_balls for r in self.rows)
+        """Total number of balls over all ball rows."""
+        return sum(r.n_balls for _, r in self.ball_rows)
+
+    @property
+    def n_elements(self) -> int:
+        """Balls and rollers over all rows: the length of the per-element record."""
+        return sum(r.n_elements for r in self.rows)
+
+    @cached_property
+    def element_rows(self) -> np.ndarray:
+        """Row index of every element of the record (int64): the balls, then the rollers."""
+        balls = [np.full(r.n_balls, i) for i, r in self.ball_rows]
+        rollers = [np.full(r.n_rollers, i) for i, r in self.roller_rows]
+        return np.concatenate([*balls, *rollers, np.zeros(0)]).astype(np.int64)
 
     @property
     def length_scale(self) -> float:
@@ -372,7 +408,9 @@ class Bearing:
     @property
     def preload_force(self) -> float:
         """Sum over rows of Z*Kn*d0^n in N: the force scale of the preload alone (0 without preload)."""
-        return float(sum(r.n_balls * r.hertz_constant * abs(r.axial_preload) ** r.exponent for r in self.rows))
+        return float(sum(r.n_balls * r.hertz_constant * abs(r.axial_preload) ** r.exponent for _, r in self.ball_rows)
+                     + sum(r.n_rollers * r.hertz_constant * abs(r.axial_preload) ** (10 / 9)
+                           for _, r in self.roller_rows))
 
     def with_rows(self, **changes) -> "Bearing":
         """Copy with the given Row fields replaced in every row."""
@@ -395,12 +433,24 @@ class Bearing:
     def ball_set(self, cage_angle: float = 0.0) -> tuple:
         """What the kernel reads: (ball table, per-ball exponents or None when every n is 1.5, None:
         the exact contact law)."""
-        return (self.ball_table(cage_angle), self.ball_exponents, None)
+        return (self.ball_table(cage_angle), self.ball_exponents, None, self.slice_table(cage_angle))
+
+    def slice_table(self, cage_angle: float = 0.0) -> np.ndarray:
+        """The kernel's per-slice table of the roller rows (rollers.slice_table; no columns without rollers)."""
+        if cage_angle == 0.0:
+            return self._slice_table_at_rest
+        return slice_table(self.roller_rows, self.n_balls, cage_angle)
+
+    @cached_property
+    def _slice_table_at_rest(self) -> np.ndarray:
+        if not self.roller_rows:
+            return np.empty((N_SLICE_COLUMNS, 0))
+        return slice_table(self.roller_rows, self.n_balls)
 
     @cached_property
     def ball_exponents(self):
         """None when every row is Hertzian (n = 1.5, the kernel's sqrt path), else (n_balls,) exponents."""
-        if all(r.exponent == 1.5 for r in self.rows):
+        if all(r.exponent == 1.5 for _, r in self.ball_rows):
             return None
         return np.ascontiguousarray(self._ball_table_at_rest[EXPONENT])
 
@@ -411,7 +461,7 @@ class Bearing:
     def _build_ball_table(self, cage_angle: float) -> np.ndarray:
         table = np.empty((N_BALL_COLUMNS, self.n_balls))
         k = 0
-        for i, r in enumerate(self.rows):
+        for i, r in self.ball_rows:
             a0 = math.radians(r.contact_angle)
             j = np.arange(r.n_balls)
             psi = math.radians(r.first_ball_angle) + cage_angle + 2.0 * math.pi * j / r.n_balls
@@ -440,6 +490,12 @@ class Bearing:
         """One line per row, for reports and HDF5 provenance."""
         lines = [f"{self.name or 'bearing'} ({self.arrangement}, {self.n_rows} rows)"]
         for i, r in enumerate(self.rows):
+            if isinstance(r, RollerRow):
+                lines.append(f"  row {i}: {r.element}, z={r.axial_offset:g} mm, s={r.contact_direction:+d}, "
+                             f"Z={r.n_rollers}, a={r.contact_angle:g} deg, l={r.roller_effective_length:g} mm, "
+                             f"R={r.pitch_radius:g} mm, K={r.hertz_constant:g} N/mm^(10/9), {r.slices} slices, "
+                             f"crown {r.crown}, rL={r.radial_clearance:g} mm, d0={r.axial_preload:g} mm")
+                continue
             lines.append(
                 f"  row {i}: z={r.axial_offset:g} mm, s={r.contact_direction:+d}, Z={r.n_balls}, "
                 f"a0={r.contact_angle:g} deg, A0={r.groove_center_distance:g} mm, R={r.pitch_radius:g} mm, "
@@ -451,7 +507,7 @@ class Bearing:
     def to_dict(self) -> dict:
         """The bearing as a ``[bearing]`` table with explicit ``rows`` (round-trips through TOML)."""
         return {"name": self.name, "arrangement": self.arrangement,
-                "rows": [{f.name: getattr(r, f.name) for f in fields(Row) if getattr(r, f.name) is not None}
+                "rows": [{f.name: getattr(r, f.name) for f in fields(r) if getattr(r, f.name) is not None}
                          for r in self.rows]}
 
 
@@ -459,7 +515,9 @@ ROW_KEYS = tuple(f.name for f in fields(Row))
 #: Row keys a compact [bearing] table shares between its rows.
 SHARED_ROW_KEYS = ("n_balls", "hertz_constant", "pitch_radius", "groove_center_distance", "contact_angle", "exponent",
                    "radial_clearance", "first_ball_angle", "deflection_limit")
-_COMPACT_KEYS = set(SHARED_ROW_KEYS) | {"arrangement", "row_offset", "axial_preload", "name"}
+_COMPACT_KEYS = set(SHARED_ROW_KEYS) | set(ROLLER_KEYS) | {"arrangement", "row_offset", "axial_preload", "name"}
+#: Keys a row table may hold: a ball row's or a roller row's (``element`` says which).
+ALL_ROW_KEYS = tuple(sorted(set(ROW_KEYS) | set(ROLLER_KEYS)))
 
 
 def preset_names() -> list[str]:
@@ -483,11 +541,25 @@ def check_keys(table: dict, allowed, where: str) -> None:
 REQUIRED_ROW_KEYS = ("n_balls", "hertz_constant", "pitch_radius", "groove_center_distance", "contact_angle")
 
 
-def _row(values, where: str) -> Row:
-    """Build a Row from a table of Row keywords, naming where it came from in any error."""
-    validate.table(values, where, ROW_KEYS, REQUIRED_ROW_KEYS)
+def _row(values, where: str):
+    """Build a Row (``element`` "ball" or absent) or a RollerRow from a table of keywords, naming where it
+    came from in any error."""
+    if not isinstance(values, dict):
+        validate.table(values, where, ROW_KEYS)  # says what a row must be
+    element = values.get("element", "ball")
+    if element == "ball":
+        values = {k: v for k, v in values.items() if k != "element"}
+        validate.table(values, where, ROW_KEYS, REQUIRED_ROW_KEYS)
+        cls = Row
+    else:
+        validate.choice(element, f"{where}.element" if where else "element", ("ball", *ROLLER_ELEMENTS))
+        values = dict(values)
+        if "first_ball_angle" in values:
+            values["first_element_angle"] = values.pop("first_ball_angle")
+        validate.table(values, where, ROLLER_KEYS, REQUIRED_ROLLER_KEYS)
+        cls = RollerRow
     try:
-        return Row(**values)
+        return cls(**values)
     except validate.FieldError as err:
         raise err.within(where) from None
 

@@ -16,8 +16,9 @@ from pathlib import Path
 from . import validate
 from .bearing import SHARED_ROW_KEYS, Bearing, preset_names, preset_table
 from .geometry import geometry_from_table
+from .rollers import ROLLER_KEYS
 
-_TABLE_KEYS = set(SHARED_ROW_KEYS) | {"arrangement", "row_offset", "axial_preload", "preset", "name", "rows", "geometry"}
+_TABLE_KEYS = set(SHARED_ROW_KEYS) | set(ROLLER_KEYS) | {"arrangement", "row_offset", "axial_preload", "preset", "name", "rows", "geometry"}
 #: Keys a [bearing.geometry] table derives; giving them in [bearing] too would be ambiguous.
 _GEOMETRY_DERIVED = ("n_balls", "hertz_constant", "pitch_radius", "groove_center_distance", "contact_angle",
                      "exponent", "radial_clearance", "row_offset", "deflection_limit")

@@ -22,6 +22,7 @@ from .export import FORMATS as EXPORT_FORMATS
 from .files import DiskFull, OutputExists
 from .geometry import load_centre_spread
 from .plot import NORMALISE, PASSAGE_X
+from .rollers import RollerRow
 
 EXIT_USAGE = 2
 
@@ -501,6 +502,14 @@ def _bearing_report(bearing) -> dict:
     """Derived parameters of every row (lengths mm, angles deg and rad, Kn N/mm^n) and of the geometry."""
     rows = []
     for r in bearing.rows:
+        if isinstance(r, RollerRow):
+            rows.append({"element": r.element, "axial_offset": r.axial_offset, "contact_direction": r.contact_direction,
+                         "n_rollers": r.n_rollers, "hertz_constant": r.hertz_constant, "pitch_radius": r.pitch_radius,
+                         "roller_effective_length": r.roller_effective_length, "contact_angle_deg": r.contact_angle,
+                         "slices": r.slices, "slice_width": r.roller_effective_length / r.slices, "crown": r.crown,
+                         "crown_drop_at_ends": float(r.crown_drop(r.slice_positions[[0]])[0]),
+                         "radial_clearance": r.radial_clearance, "axial_preload": r.axial_preload})
+            continue
         af = r.free_contact_angle
         rows.append({"axial_offset": r.axial_offset, "contact_direction": r.contact_direction, "n_balls": r.n_balls,
                      "hertz_constant": r.hertz_constant, "exponent": r.exponent,
@@ -511,7 +520,7 @@ def _bearing_report(bearing) -> dict:
                      "rest_contact_angle_deg": math.degrees(r.rest_contact_angle),
                      "deflection_limit": r.validity_deflection})
     out = {"name": bearing.name, "arrangement": bearing.arrangement, "rows": rows}
-    if bearing.arrangement in ("DB", "DF", "DT"):
+    if bearing.arrangement in ("DB", "DF", "DT") and not bearing.roller_rows:
         r = bearing.rows[1]
         out["load_centre_spread"] = load_centre_spread(bearing.arrangement, r.axial_offset, r.pitch_radius,
                                                        math.radians(r.contact_angle))
@@ -558,6 +567,20 @@ def _bearing_text(rep: dict, bearing) -> str:
                          f"sum rho = {c['curvature_sum']:.5g} 1/mm")
     lines.append("model parameters:")
     for i, r in enumerate(rep["rows"]):
+        if "element" in r:
+            lines += [f"  row {i}: {r['element'].replace('_', ' ')}s, z = {r['axial_offset']:g} mm, contact direction "
+                      f"{r['contact_direction']:+d}, Z = {r['n_rollers']}",
+                      f"    line-contact constant      K  = {r['hertz_constant']:.6g} N/mm^(10/9) (whole roller)",
+                      f"    pitch radius               R  = {r['pitch_radius']:.6g} mm",
+                      f"    effective length           l  = {r['roller_effective_length']:.6g} mm, {r['slices']} slices "
+                      f"of {r['slice_width']:.4g} mm",
+                      f"    contact angle              a  = {r['contact_angle_deg']:.6g} deg",
+                      f"    crown                      {r['crown']}" + (f", drop {r['crown_drop_at_ends'] * 1e3:.4g} um at "
+                                                                         "the end slices" if r["crown"] != "none" else ""),
+                      f"    radial clearance           rL = {r['radial_clearance']:.6g} mm"]
+            if r["axial_preload"]:
+                lines.append(f"    axial preload              d0 = {r['axial_preload']:.6g} mm")
+            continue
         lines += [f"  row {i}: z = {r['axial_offset']:g} mm, contact direction {r['contact_direction']:+d}, "
                   f"Z = {r['n_balls']}",
                   f"    Hertz constant             Kn = {r['hertz_constant']:.6g} N/mm^{r['exponent']:g}",

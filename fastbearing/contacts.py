@@ -14,7 +14,7 @@ from dataclasses import dataclass, fields
 import numpy as np
 
 from .api import ball_loads
-from .bearing import COS_PSI, EXPONENT, KN, ROW, SIN_PSI, Bearing
+from .bearing import COS_PSI, EXPONENT, KN, SIN_PSI, Bearing
 from .geometry import HertzContact
 
 
@@ -103,10 +103,15 @@ def ball_contacts(bearing: Bearing, q) -> BallContacts:
     """
     Q, alpha = ball_loads(bearing, q)
     table = bearing.ball_table()                 # what the kernel read: one column per ball
-    row = table[ROW].astype(np.int64)
-    ball = np.concatenate([np.arange(r.n_balls) for r in bearing.rows])
-    azimuth = np.mod(np.arctan2(table[SIN_PSI], table[COS_PSI]), 2.0 * math.pi)
-    delta = (np.maximum(Q, 0.0) / table[KN]) ** (1.0 / table[EXPONENT])
+    row = bearing.element_rows
+    ball = np.concatenate([np.arange(r.n_elements) for _, r in (*bearing.ball_rows, *bearing.roller_rows)])
+    rollers = [(math.radians(r.first_element_angle) + 2.0 * math.pi * np.arange(r.n_rollers) / r.n_rollers)
+               for _, r in bearing.roller_rows]
+    azimuth = np.mod(np.concatenate([np.arctan2(table[SIN_PSI], table[COS_PSI]), *rollers]), 2.0 * math.pi)
+    nb = bearing.n_balls
+    # a ball's deflection from its load; a roller's total load has no one deflection (its slices differ): nan
+    delta = np.concatenate([(np.maximum(Q[:nb], 0.0) / table[KN]) ** (1.0 / table[EXPONENT]),
+                            np.full(len(Q) - nb, np.nan)])
     base = dict(row=row, ball=ball, azimuth=azimuth, deflection=delta, load=Q, contact_angle=alpha)
     geometry = getattr(bearing, "geometry", None)
     if geometry is None:

@@ -82,19 +82,22 @@ def ball_loop(q, balls, f, K, ball_load, contact_angle):
     ----------
     q : (5,) float64
         (dx, dy, dz, bx, by) in mm and rad at the bearing centre.
-    balls : tuple (table, exponent, smoothing)
+    balls : tuple (table, exponent, smoothing, slices)
         ``table`` (13, n_balls) float64, column-major per-ball data from
         :meth:`fastbearing.Bearing.ball_set`; ``exponent`` None (all balls
         n = 1.5) or (n_balls,) float64 per-ball exponents; ``smoothing``
         None (the exact contact law) or eps in mm (see
-        :func:`clamped_deflection`).
+        :func:`clamped_deflection`); ``slices`` (12, n_slices) the roller
+        slices (rollers.slice_table; no columns for a ball bearing), added
+        by :func:`slice_loop`.
     f : (5,) float64, out
         (Fx, Fy, Fz, Mx, My) on the inner ring in N and N*mm.
     K : (5, 5) float64 or None, out
         Kb = df/dq; None skips it (secant solvers need only f).
-    ball_load, contact_angle : (n_balls,) float64 or None, out
+    ball_load, contact_angle : (n_elements,) float64 or None, out
         Q_j in N and the loaded contact angle alpha_j in rad, signed so that
-        it is positive on the row's own contact direction; None skips them.
+        it is positive on the row's own contact direction, of every ball and
+        then every roller (its total load); None skips them.
 
     Returns
     -------
@@ -108,7 +111,7 @@ def ball_loop(q, balls, f, K, ball_load, contact_angle):
         direction, BEYOND_VALIDITY when a ball's deflection exceeds its
         row's deflection limit (table row DEFLECTION_LIMIT); 0 otherwise.
     """
-    table, exponent, smoothing = balls
+    table, exponent, smoothing, slices = balls
     cos_psi = table[0]
     sin_psi = table[1]
     offset = table[2]
@@ -221,4 +224,131 @@ def ball_loop(q, balls, f, K, ball_load, contact_angle):
         K[3, 4] = K[4, 3] = k34
         K[4, 4] = k44
     warnings = (CONTACT_REVERSED if n_reversed > 0 else 0) | (BEYOND_VALIDITY if n_beyond > 0 else 0)
+    if slices.shape[1] > 0:
+        t, n = slice_loop(q, slices, smoothing, f, K, ball_load, contact_angle, table.shape[1])
+        total += t
+        n_loaded += n
     return total, n_loaded, warnings
+
+
+@njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, nogil=True)
+def slice_loop(q, slices, smoothing, f, K, element_load, element_angle, first):
+    """Add the roller slices' contacts to f (5) and, unless ``K`` is None, Kb (5x5), in place.
+
+    Per slice (rollers.py): the rigid-ring approach at the slice, d = n . (dr, dz) + offset along the
+    fixed normal n = (nr, nz), delta = max(d, 0) (or the solver's smoothed form), load
+    Q = k delta^(10/9) with k = K/slices; it adds Q n mapped by J^T to f and Q' J^T n n^T J to Kb
+    (a fixed normal has no geometric stiffness). ``element_load`` (when not None) receives each
+    roller's total load at its place in the record (the slice table's roller column; the rollers follow
+    the ``first`` entries of the balls), ``element_angle`` the contact angle (rad).
+    Returns (total slice load N, loaded slices).
+    """
+    cos_psi = slices[0]
+    sin_psi = slices[1]
+    axial = slices[2]
+    radius = slices[3]
+    nr = slices[4]
+    nz = slices[5]
+    offset = slices[6]
+    stiffness = slices[7]
+    roller = slices[9]
+    angle = slices[10]
+    dx = q[0]
+    dy = q[1]
+    dz = q[2]
+    bx = q[3]
+    by = q[4]
+    if element_load is not None:
+        for j in range(first, element_load.shape[0]):
+            element_load[j] = 0.0
+    f0 = f1 = f2 = f3 = f4 = 0.0
+    k00 = k01 = k02 = k03 = k04 = 0.0
+    k11 = k12 = k13 = 0.0
+    k22 = k23 = k24 = 0.0
+    k33 = k34 = k44 = 0.0
+    total = 0.0
+    n_loaded = 0
+    for k in range(slices.shape[1]):
+        c = cos_psi[k]
+        s = sin_psi[k]
+        z = axial[k]
+        R = radius[k]
+        dr = (dx + z * by) * c + (dy - z * bx) * s
+        dzb = dz + R * (bx * s - by * c)
+        delta, slope = clamped_deflection(nr[k] * dr + nz[k] * dzb + offset[k], smoothing)
+        root = delta ** (1.0 / 9.0)
+        Q = stiffness[k] * delta * root
+        dQ = (10.0 / 9.0) * stiffness[k] * root * slope
+        n_loaded += delta > 0.0
+        total += Q
+        if element_load is not None:
+            j = int(roller[k])  # the roller's place in the element record (after the balls)
+            element_load[j] += Q
+            element_angle[j] = angle[k]
+        fr = Q * nr[k]
+        fz = Q * nz[k]
+        m = R * fz - z * fr
+        f0 += fr * c
+        f1 += fr * s
+        f2 += fz
+        f3 += m * s
+        f4 -= m * c
+        if K is not None:
+            # the ball loop's J^T H J accumulation with H = Q' n n^T: written out again (not a shared
+            # helper) so both loops keep 15 scalar accumulators that LLVM vectorises; the slow references
+            # in tests/test_rollers.py and tests/naive.py hold each to its equations
+            h11 = dQ * nr[k] * nr[k]
+            h12 = dQ * nr[k] * nz[k]
+            h22 = dQ * nz[k] * nz[k]
+            p = R * h12 - z * h11
+            r = R * h22 - z * h12
+            t = R * r - z * p
+            cc = c * c
+            ss = s * s
+            cs = c * s
+            k00 += h11 * cc
+            k01 += h11 * cs
+            k02 += h12 * c
+            k03 += cs * p
+            k04 -= cc * p
+            k11 += h11 * ss
+            k12 += h12 * s
+            k13 += ss * p
+            k22 += h22
+            k23 += s * r
+            k24 -= c * r
+            k33 += ss * t
+            k34 -= cs * t
+            k44 += cc * t
+    f[0] += f0
+    f[1] += f1
+    f[2] += f2
+    f[3] += f3
+    f[4] += f4
+    if K is not None:
+        K[0, 0] += k00
+        K[0, 1] += k01
+        K[1, 0] += k01
+        K[0, 2] += k02
+        K[2, 0] += k02
+        K[0, 3] += k03
+        K[3, 0] += k03
+        K[0, 4] += k04
+        K[4, 0] += k04
+        K[1, 1] += k11
+        K[1, 2] += k12
+        K[2, 1] += k12
+        K[1, 3] += k13
+        K[3, 1] += k13
+        K[1, 4] -= k03
+        K[4, 1] -= k03
+        K[2, 2] += k22
+        K[2, 3] += k23
+        K[3, 2] += k23
+        K[2, 4] += k24
+        K[4, 2] += k24
+        K[3, 3] += k33
+        K[3, 4] += k34
+        K[4, 3] += k34
+        K[4, 4] += k44
+    return total, n_loaded

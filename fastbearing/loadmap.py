@@ -17,7 +17,7 @@ import numpy as np
 
 from . import jobs, storage, validate
 from .api import solver_settings
-from .bearing import ROW, Bearing
+from .bearing import Bearing
 from .bearing_file import read_job_config
 from .dofs import AXES, UNITS
 from .grid import Axis, CaseSet, parse_axis, read_case_file, segment_starts
@@ -119,7 +119,7 @@ def compute_block(bearing: Bearing, given_load: bool, line_length: int, settings
     ``life``: None, or (LifeSettings, BearingRatings) for the life variables.
     """
     balls = bearing.ball_set()
-    ball_row = balls[0][ROW].astype(np.int64)
+    ball_row = bearing.element_rows
     segments = segment_starts(first, first + inputs.shape[0], line_length)
     if life is None:
         table, C0 = np.empty((0, 6)), 0.0

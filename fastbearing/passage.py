@@ -22,7 +22,7 @@ import numpy as np
 
 from . import jobs, storage, validate
 from .api import solver_settings
-from .bearing import ROW, Bearing
+from .bearing import Bearing
 from .bearing_file import read_job_config
 from .dofs import AXES, K_ENTRIES, K_UNITS, UNITS
 from .files import publish
@@ -71,7 +71,7 @@ class PassageConfig:
     @property
     def period_order(self) -> int:
         """gcd of the rows' ball counts: the table repeats after a cage turn of 2*pi/period_order."""
-        return reduce(math.gcd, (r.n_balls for r in self.bearing.rows))
+        return reduce(math.gcd, (r.n_elements for r in self.bearing.rows))
 
     @property
     def period(self) -> float:
@@ -178,12 +178,13 @@ def _variables(cfg: PassageConfig) -> list[storage.Variable]:
     ]
 
 
-def compute_block(tables: np.ndarray, exponents: np.ndarray, ball_row: np.ndarray, given_load: bool, settings,
-                  harmonics: int, inputs: np.ndarray, res: dict, first: int, stop: np.ndarray) -> None:
+def compute_block(tables: np.ndarray, slice_tables: np.ndarray, exponents: np.ndarray, ball_row: np.ndarray,
+                  given_load: bool, settings, harmonics: int, inputs: np.ndarray, res: dict, first: int,
+                  stop: np.ndarray) -> None:
     """Fill one block's results ``res``: every point of ``inputs`` at every cage position, then the
     summaries over the period (mean, min, max, variation, Fourier). The work unit of a table, here or on Dask.
     ``first`` (the block's first point) is unused: every point starts cold. ``stop[0] != 0`` ends early."""
-    passage_sweep(inputs, given_load, tables, exponents, res["q"], res["f"], res["K"], res["status"],
+    passage_sweep(inputs, given_load, tables, slice_tables, exponents, res["q"], res["f"], res["K"], res["status"],
                   res["iterations"], res["residual"], res["max_ball_load"], res["loaded_balls"],
                   res["min_contact_angle"], res["max_contact_angle"], ball_row, settings, stop)
     if stop[0] != 0:
@@ -213,7 +214,8 @@ def job(cfg: PassageConfig) -> jobs.Job:
                      cage_frequency_hz=fc, ball_pass_frequency_hz=cfg.period_order * fc)
     tables = np.ascontiguousarray(np.stack([cfg.bearing.ball_table(a) for a in cfg.cage_angles]))
     settings = solver_settings(cfg.bearing, cfg.method, cfg.rtol, cfg.max_iter)
-    compute = partial(compute_block, tables, cfg.bearing.ball_exponents, tables[0, ROW].astype(np.int64),
+    slice_tables = np.ascontiguousarray(np.stack([cfg.bearing.slice_table(a) for a in cfg.cage_angles]))
+    compute = partial(compute_block, tables, slice_tables, cfg.bearing.ball_exponents, cfg.bearing.element_rows,
                       cfg.cases.given == "load", settings, cfg.harmonics)
     return jobs.Job(
         kind="ball-passage table", bearing=cfg.bearing, cases=cfg.cases, variables=tuple(_variables(cfg)),

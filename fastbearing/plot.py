@@ -683,15 +683,12 @@ def plot_load_zone(bearing, q, *, title: str | None = None, out=None, overwrite:
     """
     from matplotlib.ticker import MaxNLocator
 
-    from .api import ball_loads
-    from .bearing import COS_PSI, ROW, SIN_PSI
+    from .contacts import ball_contacts
 
     if out is not None:
         check_output(out, overwrite)
-    Q, alpha = ball_loads(bearing, q)
-    table = bearing.ball_table()
-    psi = np.mod(np.arctan2(table[SIN_PSI], table[COS_PSI]), 2 * np.pi)
-    row_of = table[ROW].astype(int)
+    contacts = ball_contacts(bearing, q)       # every ball, then every roller (its total load)
+    Q, alpha, psi, row_of = contacts.load, contacts.contact_angle, contacts.azimuth, contacts.row
     n = bearing.n_rows
     top = float(Q.max()) * 1.15 if Q.max() > 0 else 1.0
     with style():
@@ -725,7 +722,8 @@ def plot_load_zone(bearing, q, *, title: str | None = None, out=None, overwrite:
             angles = (f"\ncontact angle {np.degrees(a_loaded.min()):.1f} to {np.degrees(a_loaded.max()):.1f} deg"
                       if loaded.any() else "")
             ax.set_title(f"row {r}: z = {row.axial_offset:g} mm, contact direction {row.contact_direction:+d}\n"
-                         f"{int(loaded.sum())} of {row.n_balls} balls loaded, max Q = {load.max():.4g} N"
+                         f"{int(loaded.sum())} of {row.n_elements} {'balls' if hasattr(row, 'n_balls') else 'rollers'}"
+                         f" loaded, max Q = {load.max():.4g} N"
                          + angles, fontsize=9)
         _figure_legend(fig, handles, ncol=2)
         q = np.asarray(q, dtype=float)

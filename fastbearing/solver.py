@@ -118,7 +118,8 @@ def _cold_start(f_target, q, f, K, balls, D, max_step):
         return 1, total, n_loaded, warn
     norm = math.sqrt(norm2)
     size = 0.02 * max_step
-    n_exp = balls[0][8, 0]  # the first ball's exponent sets the rescale (exact for a uniform n)
+    # the first element's exponent sets the rescale (exact for a uniform n): a ball's, else a slice's 10/9
+    n_exp = balls[0][8, 0] if balls[0].shape[1] > 0 else 10.0 / 9.0
     evals = 0
     for attempt in range(40):
         for i in range(5):
@@ -437,13 +438,13 @@ def _smoothing_continuation(f_target, q, f, K, balls, settings, tol, arm, reach,
     contact law from the smallest. Returns what :func:`_minimise_energy`
     does, with iterations and evaluations summed over the levels.
     """
-    table, exponent, _ = balls
+    table, exponent, _, slices = balls
     eps = SMOOTHING_FIRST * reach
     iterations = 0
     evals = 0
     while eps > SMOOTHING_LAST * reach:
         level_tol = max(tol, SMOOTHING_RTOL * tol / settings.rtol)
-        st, it, rmax, ev, total, warn = _minimise_energy(f_target, q, f, K, (table, exponent, eps), settings,
+        st, it, rmax, ev, total, warn = _minimise_energy(f_target, q, f, K, (table, exponent, eps, slices), settings,
                                                           level_tol, arm, reach, D, work)
         iterations += it
         evals += ev
@@ -515,11 +516,15 @@ def solve_case(f_target, q, f, K, balls, settings, warm, work, ball_load, contac
         return SolveOutcome(NONFINITE_INPUT, 0, math.nan, 0)
     # geometry of the rounding floor: moment arms and the largest groove-centre distance
     table = balls[0]
+    slices = balls[3]
     reach = 0.0
     zmax = 0.0
     for j in range(table.shape[1]):
         reach = max(reach, table[6, j])
         zmax = max(zmax, abs(table[2, j]))
+    for k in range(slices.shape[1]):  # a roller slice: its row's deflection scale and axial position
+        reach = max(reach, slices[11, k])
+        zmax = max(zmax, abs(slices[2, k]))
     arm = 1.0 + zmax / settings.length_scale
     scale = 0.0
     for i in range(5):

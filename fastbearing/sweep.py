@@ -228,12 +228,12 @@ def map_sweep(inputs, given_load, segments, q, f, K, status, iterations, residua
     want_life = life.shape[0] > 0
     n_runs = segments.shape[0] - 1
     groups = min(n_runs, MAP_GROUPS)
-    n_balls = balls[0].shape[1]
+    n_elements = ball_row.shape[0]
     for g in prange(groups):
         work = np.empty((WORK_ROWS, 5))
         predictor = np.empty((7, 5))
-        ball_load = np.empty(n_balls)
-        contact_angle = np.empty(n_balls)
+        ball_load = np.empty(n_elements)
+        contact_angle = np.empty(n_elements)
         sums = np.empty((max(life.shape[0], 1), 2))
         bits = np.empty(1)
         as_int = bits.view(np.int64)
@@ -262,11 +262,12 @@ def map_sweep(inputs, given_load, segments, q, f, K, status, iterations, residua
 
 
 @njit(parallel=True, cache=CACHE, error_model=ERROR_MODEL, nogil=True)
-def passage_sweep(inputs, given_load, tables, exponent, q, f, K, status, iterations, residual, max_load, n_loaded,
-                  min_angle, max_angle, ball_row, settings, stop):
+def passage_sweep(inputs, given_load, tables, slice_tables, exponent, q, f, K, status, iterations, residual,
+                  max_load, n_loaded, min_angle, max_angle, ball_row, settings, stop):
     """Ball-passage tables, in place: every operating point at every cage position.
 
-    ``tables`` (P, 13, n_balls) holds the ball table at each of P cage
+    ``tables`` (P, 13, n_balls) and ``slice_tables`` (P, 12, n_slices) hold the ball and roller-slice
+    tables at each of P cage
     angles (``exponent`` as in a ball set); outputs are (N, P, ...). Along
     the positions of one point each solve starts from the previous
     position's converged q. ``stop[0] != 0`` ends the sweep early, as in map_sweep.
@@ -274,11 +275,11 @@ def passage_sweep(inputs, given_load, tables, exponent, q, f, K, status, iterati
     n_points = inputs.shape[0]
     n_positions = tables.shape[0]
     groups = min(n_points, MAP_GROUPS)
-    n_balls = tables.shape[2]
+    n_elements = ball_row.shape[0]
     for g in prange(groups):
         work = np.empty((WORK_ROWS, 5))
-        ball_load = np.empty(n_balls)
-        contact_angle = np.empty(n_balls)
+        ball_load = np.empty(n_elements)
+        contact_angle = np.empty(n_elements)
         for i in range(g, n_points, groups):
             if stop_requested(stop):
                 break
@@ -288,7 +289,8 @@ def passage_sweep(inputs, given_load, tables, exponent, q, f, K, status, iterati
                     for d in range(5):
                         q[i, p, d] = q[i, p - 1, d]
                 status[i, p], iterations[i, p], residual[i, p] = operating_point(
-                    given_load, inputs[i], warm, q[i, p], f[i, p], K[i, p], (tables[p], exponent, None), settings,
+                    given_load, inputs[i], warm, q[i, p], f[i, p], K[i, p], (tables[p], exponent, None, slice_tables[p]),
+                    settings,
                     work, ball_load, contact_angle)
                 row_summary(ball_load, contact_angle, ball_row, max_load[i, p], n_loaded[i, p], min_angle[i, p],
                             max_angle[i, p])

@@ -1,0 +1,216 @@
+"""Roller rows: cylindrical and tapered rollers as sliced line contacts with a fixed normal.
+
+A roller row has Z rollers at azimuths psi_j = psi0 + 2 pi j / Z, a constant contact angle a (0 for
+cylindrical rollers, the cup angle for tapered ones), an axial offset and a contact direction s, as a
+ball row. Each roller is cut into ``slices`` laminae of width w = l/slices along its effective length l;
+slice k sits at x_k (from the roller's middle) along the generatrix t = (-s sin a, cos a) in the
+(radial, axial) plane. Its approach along the fixed normal n = (cos a, s sin a) is
+
+    delta_k = n . (dr_k, dz_k) + s d0 sin(a) - rL cos(a) - c(x_k)
+
+with (dr_k, dz_k) the inner ring's radial and axial displacement at the slice (the ball loop's rigid-ring
+expressions at the slice's radius and axial position), d0 the axial preload, rL the radial clearance and
+c(x) the crown drop; its load is q_k = (w/l) K max(delta_k, 0)^(10/9), K the whole roller's line-contact
+constant (inner and outer raceway in series), so an evenly loaded uncrowned roller carries K delta^(10/9)
+whatever the slice count. The kernel (kernel.py) sums the slices like the balls. Roller-rib contact and
+the tapered roller's own equilibrium between cone and cup are not modelled (the cup angle carries the
+normal), as in Lim & Singh (1990).
+
+Units: N, mm; angles in degrees in the definition, rad in the kernel.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import validate
+
+ELEMENTS = ("ball", "cylindrical_roller", "tapered_roller")
+ROLLER_ELEMENTS = ELEMENTS[1:]
+CROWNS = ("none", "circular", "logarithmic")
+#: Line-contact load-deflection exponent (Palmgren): Q = K delta^(10/9).
+LINE_EXPONENT = 10.0 / 9.0
+MAX_SLICES = 1000
+MAX_ROLLERS = 10_000
+#: E' = E/(1 - nu^2) of steel (E = 207 000 N/mm^2, nu = 0.3), N/mm^2: the default of the logarithmic crown.
+STEEL_REDUCED_MODULUS = 207000.0 / (1.0 - 0.3 ** 2)
+
+# Rows of the per-slice table the kernel reads (column k is slice k).
+(S_COS_PSI, S_SIN_PSI, S_AXIAL, S_RADIUS, S_NORMAL_R, S_NORMAL_Z, S_OFFSET, S_STIFFNESS, S_ROW, S_ROLLER,
+ S_ANGLE, S_SCALE) = range(12)
+N_SLICE_COLUMNS = 12
+#: A roller row's deflection scale as a fraction of its effective length (the solver's step and smoothing
+#: scale, as A0 is a ball row's): 0.02 l, e.g. 0.2 mm for a 10 mm roller.
+DEFLECTION_SCALE = 0.02
+
+
+@dataclass(frozen=True)
+class RollerRow:
+    """One row of rollers (docs: README, "Roller rows").
+
+    Parameters
+    ----------
+    element : {"cylindrical_roller", "tapered_roller"}
+    n_rollers : int
+        Z, rollers in the row, >= 1.
+    hertz_constant : float
+        K, the whole roller's line-contact constant, inner and outer raceway in series, N/mm^(10/9), > 0.
+    pitch_radius : float
+        Radius of the roller centres in mm, > 0.
+    roller_effective_length : float
+        l, effective (straight) length of the roller in mm, > 0.
+    contact_angle : float
+        a in degrees: 0 for cylindrical rollers; the cup angle of tapered rollers, in (0, 60].
+    axial_offset : float
+        Axial position of the roller centres in mm.
+    contact_direction : int
+        s, +1 or -1: the sign of the axial component of the contact normal (as a ball row's).
+    radial_clearance : float
+        rL, radial clearance per roller in mm (negative: interference).
+    axial_preload : float
+        d0, axial preload of the row in mm (tapered rows).
+    first_element_angle : float
+        Azimuth of the row's first roller in degrees.
+    slices : int
+        Laminae per roller, in [1, 1000] (default 30).
+    crown : {"none", "circular", "logarithmic"}
+        Profile of the roller: none, a circular arc of ``crown_radius`` (mm, > l/2), or Lundberg's
+        logarithmic profile for ``crown_design_load`` (N) with ``reduced_modulus`` E' (N/mm^2).
+    """
+
+    element: str
+    n_rollers: int
+    hertz_constant: float
+    pitch_radius: float
+    roller_effective_length: float
+    contact_angle: float = 0.0
+    axial_offset: float = 0.0
+    contact_direction: int = 1
+    radial_clearance: float = 0.0
+    axial_preload: float = 0.0
+    first_element_angle: float = 0.0
+    slices: int = 30
+    crown: str = "none"
+    crown_radius: float | None = None
+    crown_design_load: float | None = None
+    reduced_modulus: float = STEEL_REDUCED_MODULUS
+
+    def __post_init__(self):
+        v = validate
+        set_ = object.__setattr__
+        v.choice(self.element, "element", ROLLER_ELEMENTS)
+        set_(self, "n_rollers", v.integer(self.n_rollers, "n_rollers", low=1, high=MAX_ROLLERS))
+        if isinstance(self.contact_direction, bool) or self.contact_direction not in (1, -1):
+            raise v.FieldError("contact_direction", "must be +1 or -1", self.contact_direction)
+        set_(self, "contact_direction", int(self.contact_direction))
+        set_(self, "hertz_constant", v.number(self.hertz_constant, "hertz_constant", low=0, low_open=True,
+                                              units="N/mm^(10/9)"))
+        set_(self, "pitch_radius", v.number(self.pitch_radius, "pitch_radius", low=0, low_open=True, units="mm"))
+        length = v.number(self.roller_effective_length, "roller_effective_length", low=0, low_open=True, units="mm")
+        if length > 2.0 * self.pitch_radius:
+            raise v.FieldError("roller_effective_length", f"must be <= 2 pitch_radius ({2 * self.pitch_radius:g} mm)",
+                               length)
+        set_(self, "roller_effective_length", length)
+        if self.element == "cylindrical_roller":
+            set_(self, "contact_angle", v.number(self.contact_angle, "contact_angle", low=0, high=0,
+                                                 units="degrees (cylindrical rollers: 0)"))
+        else:
+            set_(self, "contact_angle", v.number(self.contact_angle, "contact_angle", low=0, high=60, low_open=True,
+                                                 units="degrees"))
+        for name in ("axial_offset", "first_element_angle", "radial_clearance", "axial_preload"):
+            set_(self, name, v.number(getattr(self, name), name))
+        set_(self, "slices", v.integer(self.slices, "slices", low=1, high=MAX_SLICES))
+        v.choice(self.crown, "crown", CROWNS)
+        set_(self, "reduced_modulus", v.number(self.reduced_modulus, "reduced_modulus", low=0, low_open=True,
+                                               units="N/mm^2"))
+        if self.crown == "circular":
+            if self.crown_radius is None:
+                raise v.FieldError("crown_radius", "is required with crown = \"circular\" (mm, > l/2)",
+                                   show_value=False)
+            set_(self, "crown_radius", v.number(self.crown_radius, "crown_radius", low=length / 2, low_open=True,
+                                                units="mm (more than half the roller length)"))
+        elif self.crown_radius is not None:
+            raise v.FieldError("crown_radius", "goes with crown = \"circular\"", self.crown_radius)
+        if self.crown == "logarithmic":
+            if self.crown_design_load is None:
+                raise v.FieldError("crown_design_load", "is required with crown = \"logarithmic\" (N, > 0)",
+                                   show_value=False)
+            set_(self, "crown_design_load", v.number(self.crown_design_load, "crown_design_load", low=0,
+                                                     low_open=True, units="N"))
+        elif self.crown_design_load is not None:
+            raise v.FieldError("crown_design_load", "goes with crown = \"logarithmic\"", self.crown_design_load)
+        if self.element == "cylindrical_roller" and self.axial_preload != 0.0:
+            raise v.FieldError("axial_preload", "has no effect on a cylindrical roller row (its normal is radial)",
+                               self.axial_preload)
+
+    @property
+    def n_elements(self) -> int:
+        return self.n_rollers
+
+    @property
+    def deflection_scale(self) -> float:
+        """A length that bounds the solver's early Newton steps and its smoothing, mm: 0.02 l."""
+        return DEFLECTION_SCALE * self.roller_effective_length
+
+    @property
+    def slice_positions(self) -> np.ndarray:
+        """x_k in mm: the slice centres along the roller, from its middle."""
+        w = self.roller_effective_length / self.slices
+        return -0.5 * self.roller_effective_length + (np.arange(self.slices) + 0.5) * w
+
+    def crown_drop(self, x) -> np.ndarray:
+        """c(x) in mm at positions x (mm from the roller's middle, |x| < l/2).
+
+        circular: Rc - sqrt(Rc^2 - x^2). logarithmic: Lundberg's profile for the design load Q,
+        c(x) = (2 Q / (pi l E')) ln(1 / (1 - (2x/l)^2)) (Lundberg 1939; Harris & Kotzalas, Essential
+        Concepts of Bearing Technology, 5th ed., ch. 6), which keeps the pressure along the roller even
+        at Q.
+        """
+        x = np.asarray(x, float)
+        if self.crown == "circular":
+            Rc = self.crown_radius
+            return Rc - np.sqrt(Rc * Rc - x * x)
+        if self.crown == "logarithmic":
+            l = self.roller_effective_length
+            return (2.0 * self.crown_design_load / (math.pi * l * self.reduced_modulus)
+                    * np.log(1.0 / (1.0 - (2.0 * x / l) ** 2)))
+        return np.zeros_like(x)
+
+
+def slice_table(rows, first_roller: int, cage_angle: float = 0.0) -> np.ndarray:
+    """The kernel's per-slice table (N_SLICE_COLUMNS, n_slices) of the roller rows ``rows`` (pairs of
+    (bearing row index, RollerRow)); rollers are numbered from ``first_roller`` in the element record."""
+    n = sum(r.n_rollers * r.slices for _, r in rows)
+    table = np.empty((N_SLICE_COLUMNS, n))
+    k = 0
+    roller = first_roller
+    for index, r in rows:
+        a = math.radians(r.contact_angle)
+        s = r.contact_direction
+        x = r.slice_positions
+        offset = s * r.axial_preload * math.sin(a) - r.radial_clearance * math.cos(a) - r.crown_drop(x)
+        for j in range(r.n_rollers):
+            psi = math.radians(r.first_element_angle) + cage_angle + 2.0 * math.pi * j / r.n_rollers
+            sl = slice(k, k + r.slices)
+            table[S_COS_PSI, sl] = math.cos(psi)
+            table[S_SIN_PSI, sl] = math.sin(psi)
+            table[S_AXIAL, sl] = r.axial_offset + x * math.cos(a)
+            table[S_RADIUS, sl] = r.pitch_radius - s * x * math.sin(a)
+            table[S_NORMAL_R, sl] = math.cos(a)
+            table[S_NORMAL_Z, sl] = s * math.sin(a)
+            table[S_OFFSET, sl] = offset
+            table[S_STIFFNESS, sl] = r.hertz_constant / r.slices
+            table[S_ROW, sl] = index
+            table[S_ROLLER, sl] = roller
+            table[S_ANGLE, sl] = a
+            table[S_SCALE, sl] = r.deflection_scale
+            k += r.slices
+            roller += 1
+    return table
+
+
+ROLLER_KEYS = tuple(f for f in RollerRow.__dataclass_fields__)
+REQUIRED_ROLLER_KEYS = ("element", "n_rollers", "hertz_constant", "pitch_radius", "roller_effective_length")
