@@ -309,7 +309,7 @@ class Bearing:
     def from_rows(cls, rows, *, name: str = "") -> "Bearing":
         """General set of rows (duplex, triplex, quadruplex ...): Row objects or dicts of Row keywords."""
         rows = validate.array(rows, "rows", min_length=1)
-        built = tuple(r if isinstance(r, Row) else _row(r, f"rows[{i}]") for i, r in enumerate(rows))
+        built = tuple(r if isinstance(r, (Row, RollerRow)) else _row(r, f"rows[{i}]") for i, r in enumerate(rows))
         return cls(built, arrangement="custom", name=name)
 
     @classmethod

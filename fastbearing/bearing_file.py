@@ -23,7 +23,7 @@ _TABLE_KEYS = set(SHARED_ROW_KEYS) | set(ROLLER_KEYS) | {"arrangement", "row_off
 _GEOMETRY_DERIVED = ("n_balls", "hertz_constant", "pitch_radius", "groove_center_distance", "contact_angle",
                      "exponent", "radial_clearance", "row_offset", "deflection_limit")
 #: Row keys that stay per row when the rows share one geometry.
-_GEOMETRY_ROW_KEYS = ("axial_offset", "contact_direction", "axial_preload", "first_ball_angle")
+_GEOMETRY_ROW_KEYS = ("axial_offset", "contact_direction", "axial_preload", "first_ball_angle", "first_element_angle")
 
 __all__ = ["bearing_from_table", "load_bearing", "preset_bearing", "preset_names", "read_job_config", "read_toml"]
 
@@ -66,7 +66,18 @@ def _geometry_bearing(table: dict, where: str) -> Bearing:
         raise validate.FieldError(f"{where}.{clash[0]}", f"is derived from [{where}.geometry]; remove it from "
                                   f"[{where}] (or drop the geometry table and give the model parameters directly)",
                                   show_value=False)
-    geometry = geometry_from_table(table.pop("geometry"), f"{where}.geometry")
+    spec = table.pop("geometry")
+    if isinstance(spec, dict) and spec.get("element", "ball") != "ball":
+        from .roller_geometry import roller_geometry_from_table
+
+        clash = [k for k in ("element", "n_rollers", "roller_effective_length", "slices", "crown", "crown_radius",
+                             "crown_design_load") if k in table]
+        if clash:
+            raise validate.FieldError(f"{where}.{clash[0]}", f"is set by [{where}.geometry]; remove it from "
+                                      f"[{where}]", show_value=False)
+        geometry = roller_geometry_from_table(spec, f"{where}.geometry")
+    else:
+        geometry = geometry_from_table(spec, f"{where}.geometry")
     model = {**table, **geometry.row_keywords()}
     if "rows" in table:
         rows = validate.array(table["rows"], f"{where}.rows", min_length=1)

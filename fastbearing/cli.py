@@ -525,7 +525,15 @@ def _bearing_report(bearing) -> dict:
         out["load_centre_spread"] = load_centre_spread(bearing.arrangement, r.axial_offset, r.pitch_radius,
                                                        math.radians(r.contact_angle))
     g = bearing.geometry
-    if g is not None:
+    if g is not None and hasattr(g, "roller_diameter"):
+        out["roller_geometry"] = {
+            "element": g.element, "n_rollers": g.n_rollers, "roller_diameter": g.roller_diameter,
+            "roller_effective_length": g.roller_effective_length, "pitch_diameter": g.pitch_diameter,
+            "contact_angle_deg": g.contact_angle, "diametral_clearance": g.diametral_clearance,
+            "row_spacing": g.row_spacing, "roller_material": vars(g.roller_material),
+            "ring_material": vars(g.ring_material), "reduced_modulus": g.reduced_modulus,
+            "hertz_constant": g.hertz_constant}
+    elif g is not None:
         inner, outer = g.contacts()
         out["geometry"] = {
             "n_balls": g.n_balls, "ball_diameter": g.ball_diameter, "pitch_diameter": g.pitch_diameter,
@@ -543,6 +551,18 @@ def _bearing_report(bearing) -> dict:
 
 def _bearing_text(rep: dict, bearing) -> str:
     lines = [f"{rep['name'] or 'bearing'}: {rep['arrangement']}, {len(rep['rows'])} row(s)"]
+    rg = rep.get("roller_geometry")
+    if rg is not None:
+        lines += ["catalogue geometry:",
+                  f"  rollers per row      Z  = {rg['n_rollers']} ({rg['element'].replace('_', ' ')}s)",
+                  f"  roller diameter      Dw = {rg['roller_diameter']:g} mm",
+                  f"  effective length     l  = {rg['roller_effective_length']:g} mm",
+                  f"  pitch diameter       dm = {rg['pitch_diameter']:g} mm",
+                  f"  contact angle        a  = {rg['contact_angle_deg']:g} deg",
+                  f"  diametral clearance  Pd = {rg['diametral_clearance']:g} mm",
+                  f"  reduced modulus      E' = {rg['reduced_modulus']:.6g} N/mm^2",
+                  f"  line contact (Palmgren, both raceways in series): K = 37 310 l^(8/9) E'/E'_steel = "
+                  f"{rg['hertz_constant']:.6g} N/mm^(10/9)"]
     g = rep.get("geometry")
     if g is not None:
         geo = bearing.geometry

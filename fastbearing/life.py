@@ -257,6 +257,9 @@ def ratings(bearing) -> BearingRatings:
         raise ValueError("life needs the bearing's geometry ([bearing.geometry]: ball_diameter, pitch_diameter, "
                          "groove ratios), from which the load ratings and contact ratings follow; a bearing given "
                          "by model parameters (Kn, A0, R) alone has no rating")
+    if bearing.roller_rows:
+        raise ValueError("life of roller rows is not implemented yet (ISO/TS 16281's sliced roller form); "
+                         "ball rows only")
     if g.contact_angle > 45.0:
         raise ValueError(f"bearing.geometry.contact_angle: life covers radial and angular contact ball rows "
                          f"(contact angle <= 45 deg); thrust ball rows ({g.contact_angle:g} deg) are not rated yet")

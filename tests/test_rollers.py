@@ -237,3 +237,48 @@ def test_maps_passage_tables_and_pictures_take_roller_rows(tmp_path):
 
     fig = plot_load_zone(b, r.q)
     assert "rollers loaded" in fig.axes[0].get_title()
+
+
+DATA = __import__("pathlib").Path(__file__).resolve().parents[1] / "data"
+
+
+def test_roller_rows_from_catalogue_geometry():
+    """K from Palmgren's line contact, 8.06e4 l^(8/9) per raceway, two raceways in series:
+    37 310 l^(8/9) N/mm^(10/9) for steel; other materials by E'/E'_steel; pitch radius dm/2; rL = Pd/2."""
+    from fastbearing.roller_geometry import RollerGeometry, line_constant
+    from fastbearing.geometry import SILICON_NITRIDE
+
+    assert line_constant(10.0) == pytest.approx(37310.0 * 10.0 ** (8 / 9), rel=2e-4)
+    per_raceway = 8.06e4 * 10.0 ** (8 / 9)
+    assert line_constant(10.0) == pytest.approx(per_raceway * 2 ** (-10 / 9), rel=1e-3)
+    steel = RollerGeometry("cylindrical_roller", 13, 7.5, 7.0, 39.0, diametral_clearance=0.02)
+    row = steel.bearing().rows[0]
+    assert row.pitch_radius == 19.5 and row.radial_clearance == 0.01
+    ceramic = RollerGeometry("cylindrical_roller", 13, 7.5, 7.0, 39.0, roller_material=SILICON_NITRIDE)
+    assert ceramic.hertz_constant / steel.hertz_constant == pytest.approx(
+        ceramic.reduced_modulus / steel.reduced_modulus, rel=1e-12)
+    with pytest.raises(ValueError, match="n_rollers must be <= "):
+        RollerGeometry("cylindrical_roller", 40, 7.5, 7.0, 39.0)
+    with pytest.raises(ValueError, match="contact_angle must be"):
+        RollerGeometry("cylindrical_roller", 13, 7.5, 7.0, 39.0, contact_angle=10.0)
+
+
+def test_shipped_roller_bearings_and_shafts():
+    for name in ("NU205", "30206", "30206-TDO"):
+        b = fb.load_bearing(DATA / "bearings" / f"{name}.toml")
+        assert b.roller_rows and b.geometry is not None
+    nu = fb.load_bearing(DATA / "bearings" / "NU205.toml")
+    r = fb.solve(nu, [5000.0, 0, 0, 0, 0])
+    assert r.converged and abs(r.K[2, 2]) < 1e-9 * r.K[0, 0]
+    assert not fb.solve(nu, [5000.0, 0, 1000.0, 0, 0]).converged     # a cylindrical row holds no axial load
+    pair = fb.load_bearing(DATA / "bearings" / "30206-TDO.toml")
+    assert pair.arrangement == "TDO" and fb.solve(pair, [8000.0, 0, 2000.0, 0, 1e5]).converged
+    from fastbearing.shaft import read_shaft, solve_shaft
+
+    gear = solve_shaft(read_shaft(DATA / "examples" / "gearbox-tapered-pair.toml"))
+    assert gear.solution.converged
+    np.testing.assert_allclose(sum(b.reaction[:3] for b in gear.bearings), [4000.0, 0.0, 1500.0], atol=1e-6)
+    mixed = solve_shaft(read_shaft(DATA / "examples" / "shaft-cylindrical-and-ball.toml"))
+    assert mixed.solution.converged
+    assert mixed.bearings[0].reaction[2] == pytest.approx(0.0, abs=1e-9)   # the floating NU carries no axial load
+    assert mixed.bearings[1].reaction[2] == pytest.approx(500.0)
