@@ -124,7 +124,10 @@ def test_hamrock_brewe_within_1_percent_of_exact(ratio):
     assert approx.max_pressure(Q) == pytest.approx(exact.max_pressure(Q), rel=0.01)
 
 
-@pytest.mark.parametrize("path", sorted(BEARINGS.glob("[0-9]*.toml")), ids=lambda p: p.stem)
+BALL_BEARING_FILES = [p for p in sorted(BEARINGS.glob("[0-9]*.toml")) if "element" not in p.read_text()]
+
+
+@pytest.mark.parametrize("path", BALL_BEARING_FILES, ids=lambda p: p.stem)
 def test_hamrock_brewe_kn_and_pressure_within_1_percent_on_shipped_bearings(path):
     g = fb.load_bearing(path).geometry
     h = dataclasses.replace(g, ellipticity="hamrock-brewe")
