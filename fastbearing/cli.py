@@ -651,6 +651,23 @@ def _balls_text(records: list[dict]) -> str:
     return "\n".join(lines)
 
 
+def _rollers_text(records: list[dict]) -> str:
+    pressures = records and "inner_max_pressure" in records[0]
+    head = f"{'row':>3s} {'roller':>6s} {'psi(deg)':>9s} {'Q(N)':>11s} {'q_max(N)':>11s} {'x(mm)':>8s}"
+    if pressures:
+        head += f" {'p_in(MPa)':>10s} {'p_out(MPa)':>10s}"
+    lines = ["rollers (psi azimuth, Q total load, q_max the largest slice load and x its place from the roller's "
+             "middle" + ("; largest Hertz line-contact pressure p (MPa = N/mm^2) at the inner and outer raceway"
+                         if pressures else "; no [bearing.geometry]: no contact pressures") + "):", head]
+    for r in records:
+        line = (f"{r['row']:3d} {r['roller']:6d} {math.degrees(r['azimuth']):9.3f} {r['load']:11.6g} "
+                f"{r['max_slice_load']:11.5g} {r['max_slice_position']:8.3f}")
+        if pressures:
+            line += f" {r['inner_max_pressure']:10.1f} {r['outer_max_pressure']:10.1f}"
+        lines.append(line)
+    return "\n".join(lines)
+
+
 def _table(result: dict) -> str:
     labels = ("x", "y", "z", "tx", "ty")
     K = np.asarray(result["K"])
@@ -691,7 +708,11 @@ def _solve(args) -> int:
         result = {"q": [float(v) for v in q], "f": f.tolist(), "K": K.tolist(), "status": "direct",
                   "converged": True, "iterations": 0, "residual": 0.0}
     if args.balls:
-        result["balls"] = ball_contacts(bearing, result["q"]).to_records()
+        result["balls"] = ball_contacts(bearing, result["q"]).to_records()[:bearing.n_balls]
+        if bearing.roller_rows:
+            from .contacts import roller_contacts
+
+            result["rollers"] = roller_contacts(bearing, result["q"]).to_records()
     if settings is not None and result["converged"]:
         from .life import life
 
@@ -703,8 +724,10 @@ def _solve(args) -> int:
         print(json_text(result))
     else:
         print(_table(result))
-        if args.balls:
+        if args.balls and result["balls"]:
             print(_balls_text(result["balls"]))
+        if args.balls and "rollers" in result:
+            print(_rollers_text(result["rollers"]))
         if "life" in result:
             print(_life_text(result["life"]))
     return 0 if result["converged"] else 1

@@ -81,6 +81,81 @@ class BallContacts:
         return records
 
 
+@dataclass(frozen=True)
+class RollerContacts:
+    """Per roller at a displacement: its row, number in the row, azimuth (rad), total load (N), the largest
+    slice load (N), where that slice sits along the roller (x, mm from its middle) and, with a catalogue
+    geometry, the largest Hertz line-contact pressure of the inner and outer raceway (N/mm^2)."""
+
+    row: np.ndarray
+    roller: np.ndarray
+    azimuth: np.ndarray
+    load: np.ndarray
+    max_slice_load: np.ndarray
+    max_slice_position: np.ndarray
+    inner_max_pressure: np.ndarray | None = None
+    outer_max_pressure: np.ndarray | None = None
+
+    def to_records(self) -> list[dict]:
+        keys = ("row", "roller", "azimuth", "load", "max_slice_load", "max_slice_position", "inner_max_pressure",
+                "outer_max_pressure")
+        out = []
+        for j in range(len(self.row)):
+            rec = {}
+            for k in keys:
+                v = getattr(self, k)
+                if v is not None:
+                    rec[k] = int(v[j]) if k in ("row", "roller") else float(v[j])
+            out.append(rec)
+        return out
+
+
+def roller_contacts(bearing: Bearing, q) -> RollerContacts:
+    """Per-roller loads and their slices at displacement q (mm, rad), from the one kernel's record.
+
+    The line-contact pressure of a slice carrying q over its width w is Hertz's p = sqrt((q/w) E' / (2 pi
+    R)) with R the reduced radius in the rolling direction, Dw (1 - g)/2 at the inner and Dw (1 + g)/2 at
+    the outer raceway (g = Dw cos a / dm; Harris & Kotzalas, Essential Concepts, ch. 6).
+    """
+    from .api import _as_vector, _check_bearing
+    from .kernel import ball_loop
+    from .rollers import S_ROLLER
+
+    bearing = _check_bearing(bearing)
+    q = _as_vector(q, "q", "dx, dy, dz in mm; bx, by in rad")
+    slices = bearing.slice_table()
+    n_el, n_sl = bearing.n_elements, slices.shape[1]
+    load = np.empty(n_el + n_sl)
+    angle = np.empty(n_el + n_sl)
+    ball_loop(q, bearing.ball_set(), np.empty(5), None, load, angle)
+    rows, numbers, azimuth, peak, where, widths = [], [], [], [], [], []
+    roller_of = slices[S_ROLLER].astype(np.int64)
+    k = 0
+    g = bearing.geometry if hasattr(bearing.geometry, "roller_diameter") else None
+    for i, r in bearing.roller_rows:
+        x = r.slice_positions
+        for j in range(r.n_rollers):
+            s = load[n_el + k:n_el + k + r.slices]
+            rows.append(i)
+            numbers.append(j)
+            azimuth.append((math.radians(r.first_element_angle) + 2 * math.pi * j / r.n_rollers) % (2 * math.pi))
+            m = int(np.argmax(s))
+            peak.append(s[m])
+            where.append(x[m])
+            widths.append(r.roller_effective_length / r.slices)
+            k += r.slices
+    first = int(roller_of[0]) if n_sl else n_el
+    totals = load[first:n_el]
+    out = dict(row=np.array(rows, np.int64), roller=np.array(numbers, np.int64), azimuth=np.array(azimuth),
+               load=totals, max_slice_load=np.array(peak), max_slice_position=np.array(where))
+    if g is not None:
+        gam = g.roller_diameter * math.cos(math.radians(g.contact_angle)) / g.pitch_diameter
+        per_length = np.array(peak) / np.array(widths)
+        for side, R in (("inner", g.roller_diameter * (1 - gam) / 2), ("outer", g.roller_diameter * (1 + gam) / 2)):
+            out[f"{side}_max_pressure"] = np.sqrt(per_length * g.reduced_modulus / (2 * math.pi * R))
+    return RollerContacts(**out)
+
+
 def ball_contacts(bearing: Bearing, q) -> BallContacts:
     """Per-ball load, deflection, contact angle and (with geometry) Hertz contact at displacement q.
 
@@ -114,7 +189,7 @@ def ball_contacts(bearing: Bearing, q) -> BallContacts:
                             np.full(len(Q) - nb, np.nan)])
     base = dict(row=row, ball=ball, azimuth=azimuth, deflection=delta, load=Q, contact_angle=alpha)
     geometry = getattr(bearing, "geometry", None)
-    if geometry is None:
+    if geometry is None or not hasattr(geometry, "contacts"):  # no ball geometry (a roller geometry has none)
         return BallContacts(**base)
     out = {k: np.zeros(len(Q)) for k in ("inner_max_pressure", "inner_semi_major", "inner_semi_minor",
                                           "outer_max_pressure", "outer_semi_major", "outer_semi_minor")}

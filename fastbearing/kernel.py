@@ -258,8 +258,12 @@ def slice_loop(q, slices, smoothing, f, K, element_load, element_angle, first):
     dz = q[2]
     bx = q[3]
     by = q[4]
+    n_slices = slices.shape[1]
+    # a record longer than the elements also takes every slice's load, after the rollers (solve --balls)
+    slice_base = int(roller[n_slices - 1]) + 1
+    per_slice = element_load is not None and element_load.shape[0] >= slice_base + n_slices
     if element_load is not None:
-        for j in range(first, element_load.shape[0]):
+        for j in range(first, slice_base):
             element_load[j] = 0.0
     f0 = f1 = f2 = f3 = f4 = 0.0
     k00 = k01 = k02 = k03 = k04 = 0.0
@@ -285,6 +289,9 @@ def slice_loop(q, slices, smoothing, f, K, element_load, element_angle, first):
             j = int(roller[k])  # the roller's place in the element record (after the balls)
             element_load[j] += Q
             element_angle[j] = angle[k]
+            if per_slice:
+                element_load[slice_base + k] = Q
+                element_angle[slice_base + k] = angle[k]
         fr = Q * nr[k]
         fz = Q * nz[k]
         m = R * fz - z * fr

@@ -282,3 +282,30 @@ def test_shipped_roller_bearings_and_shafts():
     assert mixed.solution.converged
     assert mixed.bearings[0].reaction[2] == pytest.approx(0.0, abs=1e-9)   # the floating NU carries no axial load
     assert mixed.bearings[1].reaction[2] == pytest.approx(500.0)
+
+
+def test_slice_record_edge_loading_and_line_contact_pressure():
+    """Under a tilt the most loaded slice of an uncrowned roller is its end slice (edge loading); the
+    rollers' totals are the sums of their slices; the pressure is Hertz's line contact
+    p = sqrt((q/w) E' / (2 pi R)), R = Dw (1 -+ g)/2."""
+    from fastbearing.contacts import roller_contacts
+    from fastbearing.roller_geometry import RollerGeometry
+
+    g = RollerGeometry("cylindrical_roller", 13, 7.5, 7.0, 39.0, slices=20)
+    b = g.bearing()
+    q = [0.01, 0.0, 0.0, 0.0, 4e-4]
+    rc = roller_contacts(b, q)
+    loaded = rc.load > 0
+    x_end = b.rows[0].slice_positions[-1]
+    top = int(np.argmax(rc.load))
+    assert abs(rc.max_slice_position[top]) == pytest.approx(x_end)
+    np.testing.assert_allclose(rc.load, fb.ball_loads(b, q)[0], rtol=1e-12)
+    w = 7.0 / 20
+    gam = 7.5 / 39.0
+    expect = np.sqrt(rc.max_slice_load[loaded] / w * g.reduced_modulus / (math.pi * 7.5 * (1 - gam)))
+    np.testing.assert_allclose(rc.inner_max_pressure[loaded], expect, rtol=1e-12)
+    assert (rc.outer_max_pressure[loaded] < rc.inner_max_pressure[loaded]).all()
+    from conftest import cli_run
+
+    text = cli_run("solve", "--bearing", DATA / "bearings" / "NU205.toml", "--load", "5000,0,0,0,2e4", "--balls").stdout
+    assert "rollers (psi azimuth" in text and "p_in(MPa)" in text
