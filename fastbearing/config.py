@@ -27,6 +27,10 @@ MAX_ITER_RANGE = (1, 10_000)
 #: The fast phase hands a case to the fallback after this many iterations
 #: without halving the residual.
 STAGNATION_ITERATIONS = 12
+#: A solution farther than this many element reaches (A0, or a roller row's deflection scale) from rest
+#: is a load the bearing does not hold (e.g. an axial load on cylindrical rollers): SINGULAR, not a
+#: rounding limit.
+DIVERGED_REACH = 1000.0
 #: Fallback line search: trials per direction, and its acceptance |phi'(t)| <= SEARCH_CURVATURE |phi'(0)|
 #: on the descending side.
 SEARCH_TRIALS = 40

@@ -34,8 +34,8 @@ from collections import namedtuple
 
 from numba import njit
 
-from .config import (CACHE, ERROR_MODEL, FASTMATH, SEARCH_CURVATURE, SEARCH_TRIALS, SMOOTHING_FIRST,
-                     SMOOTHING_LAST, SMOOTHING_RATIO, SMOOTHING_RTOL, STAGNATION_ITERATIONS)
+from .config import (CACHE, DIVERGED_REACH, ERROR_MODEL, FASTMATH, SEARCH_CURVATURE, SEARCH_TRIALS,
+                     SMOOTHING_FIRST, SMOOTHING_LAST, SMOOTHING_RATIO, SMOOTHING_RTOL, STAGNATION_ITERATIONS)
 from .kernel import ball_loop
 from .linalg import cholesky_solve, lu_solve
 from .status import (CONVERGED, ITERATION_LIMIT, NONFINITE_INPUT, NONFINITE_RESULT,
@@ -570,6 +570,10 @@ def solve_case(f_target, q, f, K, balls, settings, warm, work, ball_load, contac
         return SolveOutcome(NONFINITE_RESULT, iterations, math.nan, evals)
     if status == CONVERGED and floor > tol and scale > 0.0:
         status = PRECISION_LIMIT  # as close as float64 gets, but not within rtol of the target
+    if status == PRECISION_LIMIT or status == CONVERGED:
+        travel = max(abs(q[0]), abs(q[1]), abs(q[2]), settings.length_scale * max(abs(q[3]), abs(q[4])))
+        if travel > DIVERGED_REACH * reach:
+            status = SINGULAR  # ran off along a direction the bearing does not hold
     if status == CONVERGED:
         status |= warn  # the kernel's warning bits at the solution
     residual = rmax / scale if scale > 0.0 else rmax / max(total, 1e-300)

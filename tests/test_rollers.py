@@ -270,7 +270,8 @@ def test_shipped_roller_bearings_and_shafts():
     nu = fb.load_bearing(DATA / "bearings" / "NU205.toml")
     r = fb.solve(nu, [5000.0, 0, 0, 0, 0])
     assert r.converged and abs(r.K[2, 2]) < 1e-9 * r.K[0, 0]
-    assert not fb.solve(nu, [5000.0, 0, 1000.0, 0, 0]).converged     # a cylindrical row holds no axial load
+    axial = fb.solve(nu, [5000.0, 0, 1000.0, 0, 0])                   # a cylindrical row holds no axial load
+    assert axial.status_name == "singular"
     pair = fb.load_bearing(DATA / "bearings" / "30206-TDO.toml")
     assert pair.arrangement == "TDO" and fb.solve(pair, [8000.0, 0, 2000.0, 0, 1e5]).converged
     from fastbearing.shaft import read_shaft, solve_shaft
