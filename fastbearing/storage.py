@@ -85,8 +85,8 @@ def result_variables(given: str, inner: tuple[str, ...] = ()) -> list[Variable]:
           flag),
         V("iterations", (), "i4", "1", "solver iterations"),
         V("residual", (), "f8", "1", "relative residual max|f(q) - f_target| / max|f_target|, moments / R"),
-        V("max_ball_load", ("row",), "f8", "N", "largest ball load per row"),
-        V("loaded_balls", ("row",), "i2", "1", "number of loaded balls per row"),
+        V("max_ball_load", ("row",), "f8", "N", "largest element load per row (a ball's, or a roller's total)"),
+        V("loaded_balls", ("row",), "i2", "1", "number of loaded elements (balls or rollers) per row"),
         V("min_contact_angle", ("row",), "f8", "rad", "smallest loaded contact angle per row (on the row's "
           "contact direction; nan if no ball is loaded)"),
         V("max_contact_angle", ("row",), "f8", "rad", "largest loaded contact angle per row"),
