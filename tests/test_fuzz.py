@@ -143,7 +143,17 @@ GEOMETRY = {"arrangement": "DB", "axial_preload": 0.001,
             "geometry": {"n_balls": 7, "ball_diameter": 11.5, "pitch_diameter": 43.5, "inner_groove_ratio": 0.52,
                          "outer_groove_ratio": 0.53, "contact_angle": 25.0, "row_spacing": 20.0,
                          "material": "silicon-nitride"}}
-BEARINGS = st.sampled_from([PRESET, COMPACT, ROWS, GEOMETRY])
+ROLLERS = {"arrangement": "TDO", "element": "tapered_roller", "n_rollers": 17, "hertz_constant": 3.6e5,
+           "pitch_radius": 24.0, "roller_effective_length": 13.0, "contact_angle": 14.0, "row_offset": 9.0,
+           "slices": 8, "crown": "circular", "crown_radius": 1500.0, "axial_preload": 0.005}
+ROLLER_GEOMETRY = {"arrangement": "single",
+                   "geometry": {"element": "cylindrical_roller", "n_rollers": 13, "roller_diameter": 7.5,
+                                "roller_effective_length": 7.0, "pitch_diameter": 39.0, "slices": 6,
+                                "crown": "logarithmic", "crown_design_load": 5000.0}}
+MIXED = {"rows": [ROWS["rows"][0], {"element": "cylindrical_roller", "n_rollers": 14, "hertz_constant": 3e5,
+                                    "pitch_radius": 35.0, "roller_effective_length": 11.0, "axial_offset": 20.0,
+                                    "slices": 5}]}
+BEARINGS = st.sampled_from([PRESET, COMPACT, ROWS, GEOMETRY, ROLLERS, ROLLER_GEOMETRY, MIXED])
 
 
 @SETTINGS
