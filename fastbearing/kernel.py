@@ -21,6 +21,9 @@ from numba.extending import overload
 from .config import CACHE, ERROR_MODEL, KERNEL_FASTMATH
 from .status import BEYOND_VALIDITY, CONTACT_REVERSED
 
+#: The running sums of f (5) and the 14 independent Kb entries, at zero.
+ZERO_SUMS = (0.0,) * 19
+
 
 def contact_law(delta, kn, exponent, j):
     """Ball load Q = Kn*delta^n and its slope dQ/d(delta) (N, N/mm) for ball j."""
@@ -62,6 +65,68 @@ def _contact_law(delta, kn, exponent, j):
         n = exponent[j]
         return kn * delta ** n, n * kn * delta ** (n - 1.0)
     return power_law
+
+
+@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def _add_contact(acc, c, s, z, R, fr, fz, h11, h12, h22):
+    """One contact's share of f and Kb added to the running sums ``acc`` (f0..f4, then the 14 independent
+    Kb entries), shared by balls and roller slices. The contact at azimuth (c, s) = (cos psi, sin psi),
+    axial position z and radius R pushes fr radially and fz axially and has the 2x2 (radial, axial)
+    stiffness H = [[h11, h12], [h12, h22]]: f += J^T (fr, fz) and Kb += J^T H J with the rows
+    a = (c, s, 0, -z s, z c) and b = (0, 0, 1, R s, -R c) of J (k14 = -k03 by symmetry).
+    Inlined: the sums stay scalars in registers, which LLVM vectorises across contacts."""
+    (f0, f1, f2, f3, f4, k00, k01, k02, k03, k04, k11, k12, k13, k22, k23, k24, k33, k34, k44) = acc
+    m = R * fz - z * fr
+    p = R * h12 - z * h11
+    r = R * h22 - z * h12
+    t = R * r - z * p
+    cc = c * c
+    ss = s * s
+    cs = c * s
+    return (f0 + fr * c, f1 + fr * s, f2 + fz, f3 + m * s, f4 - m * c,
+            k00 + h11 * cc, k01 + h11 * cs, k02 + h12 * c, k03 + cs * p, k04 - cc * p,
+            k11 + h11 * ss, k12 + h12 * s, k13 + ss * p,
+            k22 + h22, k23 + s * r, k24 - c * r,
+            k33 + ss * t, k34 - cs * t, k44 + cc * t)
+
+
+@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def _add_load(acc, c, s, z, R, fr, fz):
+    """:func:`_add_contact` without the stiffness (K is None: secant solvers, line-search trials)."""
+    (f0, f1, f2, f3, f4, k00, k01, k02, k03, k04, k11, k12, k13, k22, k23, k24, k33, k34, k44) = acc
+    m = R * fz - z * fr
+    return (f0 + fr * c, f1 + fr * s, f2 + fz, f3 + m * s, f4 - m * c,
+            k00, k01, k02, k03, k04, k11, k12, k13, k22, k23, k24, k33, k34, k44)
+
+
+@njit(inline="always", error_model=ERROR_MODEL)
+def _put(a, i, j, v, add):
+    a[i, j] = a[i, j] + v if add else v
+    a[j, i] = a[i, j]
+
+
+@njit(inline="always", error_model=ERROR_MODEL)
+def _store(acc, f, K, add):
+    """Write (or, with ``add``, add) the sums of :func:`_add_contact` into f and, unless None, Kb."""
+    (f0, f1, f2, f3, f4, k00, k01, k02, k03, k04, k11, k12, k13, k22, k23, k24, k33, k34, k44) = acc
+    for i, v in enumerate((f0, f1, f2, f3, f4)):
+        f[i] = f[i] + v if add else v
+    if K is not None:
+        _put(K, 0, 0, k00, add)
+        _put(K, 0, 1, k01, add)
+        _put(K, 0, 2, k02, add)
+        _put(K, 0, 3, k03, add)
+        _put(K, 0, 4, k04, add)
+        _put(K, 1, 1, k11, add)
+        _put(K, 1, 2, k12, add)
+        _put(K, 1, 3, k13, add)
+        _put(K, 1, 4, -k03, add)
+        _put(K, 2, 2, k22, add)
+        _put(K, 2, 3, k23, add)
+        _put(K, 2, 4, k24, add)
+        _put(K, 3, 3, k33, add)
+        _put(K, 3, 4, k34, add)
+        _put(K, 4, 4, k44, add)
 
 
 @njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, nogil=True)
@@ -128,11 +193,7 @@ def ball_loop(q, balls, f, K, ball_load, contact_angle):
     dz = q[2]
     bx = q[3]
     by = q[4]
-    f0 = f1 = f2 = f3 = f4 = 0.0
-    k00 = k01 = k02 = k03 = k04 = 0.0
-    k11 = k12 = k13 = 0.0
-    k22 = k23 = k24 = 0.0
-    k33 = k34 = k44 = 0.0
+    acc = ZERO_SUMS
     total = 0.0
     n_loaded = 0
     n_reversed = 0
@@ -165,64 +226,15 @@ def ball_loop(q, balls, f, K, ball_load, contact_angle):
         total += Q
         inv_a = A_plus * inv
         g = Q * inv_a
-        fr = g * ur
-        fz = g * uz
-        m = R * fz - z * fr
-        f0 += fr * c
-        f1 += fr * s
-        f2 += fz
-        f3 += m * s
-        f4 -= m * c
         if K is not None:
+            # the 2x2 contact Hessian H = (Q/A)(I - h h^T) + Q' h h^T, h = (ur, uz)/A
             hr = ur * inv_a
             hz = uz * inv_a
             dq = dQ - g
-            h11 = g + dq * hr * hr
-            h12 = dq * hr * hz
-            h22 = g + dq * hz * hz
-            # Kb += a u^T + b w^T with u = H11 a + H12 b, w = H12 a + H22 b,
-            # a = (c, s, 0, -z s, z c), b = (0, 0, 1, R s, -R c); k14 = -k03.
-            p = R * h12 - z * h11
-            r = R * h22 - z * h12
-            t = R * r - z * p
-            cc = c * c
-            ss = s * s
-            cs = c * s
-            k00 += h11 * cc
-            k01 += h11 * cs
-            k02 += h12 * c
-            k03 += cs * p
-            k04 -= cc * p
-            k11 += h11 * ss
-            k12 += h12 * s
-            k13 += ss * p
-            k22 += h22
-            k23 += s * r
-            k24 -= c * r
-            k33 += ss * t
-            k34 -= cs * t
-            k44 += cc * t
-    f[0] = f0
-    f[1] = f1
-    f[2] = f2
-    f[3] = f3
-    f[4] = f4
-    if K is not None:
-        K[0, 0] = k00
-        K[0, 1] = K[1, 0] = k01
-        K[0, 2] = K[2, 0] = k02
-        K[0, 3] = K[3, 0] = k03
-        K[0, 4] = K[4, 0] = k04
-        K[1, 1] = k11
-        K[1, 2] = K[2, 1] = k12
-        K[1, 3] = K[3, 1] = k13
-        K[1, 4] = K[4, 1] = -k03
-        K[2, 2] = k22
-        K[2, 3] = K[3, 2] = k23
-        K[2, 4] = K[4, 2] = k24
-        K[3, 3] = k33
-        K[3, 4] = K[4, 3] = k34
-        K[4, 4] = k44
+            acc = _add_contact(acc, c, s, z, R, g * ur, g * uz, g + dq * hr * hr, dq * hr * hz, g + dq * hz * hz)
+        else:
+            acc = _add_load(acc, c, s, z, R, g * ur, g * uz)
+    _store(acc, f, K, False)
     warnings = (CONTACT_REVERSED if n_reversed > 0 else 0) | (BEYOND_VALIDITY if n_beyond > 0 else 0)
     if slices.shape[1] > 0:
         t, n = slice_loop(q, slices, smoothing, f, K, ball_load, contact_angle, table.shape[1])
@@ -265,11 +277,7 @@ def slice_loop(q, slices, smoothing, f, K, element_load, element_angle, first):
     if element_load is not None:
         for j in range(first, slice_base):
             element_load[j] = 0.0
-    f0 = f1 = f2 = f3 = f4 = 0.0
-    k00 = k01 = k02 = k03 = k04 = 0.0
-    k11 = k12 = k13 = 0.0
-    k22 = k23 = k24 = 0.0
-    k33 = k34 = k44 = 0.0
+    acc = ZERO_SUMS
     total = 0.0
     n_loaded = 0
     for k in range(slices.shape[1]):
@@ -292,70 +300,10 @@ def slice_loop(q, slices, smoothing, f, K, element_load, element_angle, first):
             if per_slice:
                 element_load[slice_base + k] = Q
                 element_angle[slice_base + k] = angle[k]
-        fr = Q * nr[k]
-        fz = Q * nz[k]
-        m = R * fz - z * fr
-        f0 += fr * c
-        f1 += fr * s
-        f2 += fz
-        f3 += m * s
-        f4 -= m * c
-        if K is not None:
-            # the ball loop's J^T H J accumulation with H = Q' n n^T: written out again (not a shared
-            # helper) so both loops keep 15 scalar accumulators that LLVM vectorises; the slow references
-            # in tests/test_rollers.py and tests/naive.py hold each to its equations
-            h11 = dQ * nr[k] * nr[k]
-            h12 = dQ * nr[k] * nz[k]
-            h22 = dQ * nz[k] * nz[k]
-            p = R * h12 - z * h11
-            r = R * h22 - z * h12
-            t = R * r - z * p
-            cc = c * c
-            ss = s * s
-            cs = c * s
-            k00 += h11 * cc
-            k01 += h11 * cs
-            k02 += h12 * c
-            k03 += cs * p
-            k04 -= cc * p
-            k11 += h11 * ss
-            k12 += h12 * s
-            k13 += ss * p
-            k22 += h22
-            k23 += s * r
-            k24 -= c * r
-            k33 += ss * t
-            k34 -= cs * t
-            k44 += cc * t
-    f[0] += f0
-    f[1] += f1
-    f[2] += f2
-    f[3] += f3
-    f[4] += f4
-    if K is not None:
-        K[0, 0] += k00
-        K[0, 1] += k01
-        K[1, 0] += k01
-        K[0, 2] += k02
-        K[2, 0] += k02
-        K[0, 3] += k03
-        K[3, 0] += k03
-        K[0, 4] += k04
-        K[4, 0] += k04
-        K[1, 1] += k11
-        K[1, 2] += k12
-        K[2, 1] += k12
-        K[1, 3] += k13
-        K[3, 1] += k13
-        K[1, 4] -= k03
-        K[4, 1] -= k03
-        K[2, 2] += k22
-        K[2, 3] += k23
-        K[3, 2] += k23
-        K[2, 4] += k24
-        K[4, 2] += k24
-        K[3, 3] += k33
-        K[3, 4] += k34
-        K[4, 3] += k34
-        K[4, 4] += k44
+        if K is not None:  # a fixed normal: H = Q' n n^T, no geometric term
+            acc = _add_contact(acc, c, s, z, R, Q * nr[k], Q * nz[k], dQ * nr[k] * nr[k], dQ * nr[k] * nz[k],
+                               dQ * nz[k] * nz[k])
+        else:
+            acc = _add_load(acc, c, s, z, R, Q * nr[k], Q * nz[k])
+    _store(acc, f, K, True)
     return total, n_loaded
