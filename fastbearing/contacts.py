@@ -70,15 +70,7 @@ class BallContacts:
 
     def to_records(self) -> list[dict]:
         """One JSON-ready dict per ball (lengths mm, angles rad, loads N, pressures N/mm^2)."""
-        names = [f.name for f in fields(self) if getattr(self, f.name) is not None]
-        records = []
-        for i in range(len(self.load)):
-            rec = {}
-            for n in names:
-                v = getattr(self, n)[i]
-                rec[n] = int(v) if n in ("row", "ball") else float(v)
-            records.append(rec)
-        return records
+        return _records(self, ("row", "ball"))
 
 
 @dataclass(frozen=True)
@@ -97,17 +89,15 @@ class RollerContacts:
     outer_max_pressure: np.ndarray | None = None
 
     def to_records(self) -> list[dict]:
-        keys = ("row", "roller", "azimuth", "load", "max_slice_load", "max_slice_position", "inner_max_pressure",
-                "outer_max_pressure")
-        out = []
-        for j in range(len(self.row)):
-            rec = {}
-            for k in keys:
-                v = getattr(self, k)
-                if v is not None:
-                    rec[k] = int(v[j]) if k in ("row", "roller") else float(v[j])
-            out.append(rec)
-        return out
+        """One JSON-ready dict per roller (lengths mm, angles rad, loads N, pressures N/mm^2)."""
+        return _records(self, ("row", "roller"))
+
+
+def _records(arrays, integers) -> list[dict]:
+    """A dataclass of per-element arrays as one dict per element; None fields left out."""
+    names = [f.name for f in fields(arrays) if getattr(arrays, f.name) is not None]
+    return [{n: int(getattr(arrays, n)[i]) if n in integers else float(getattr(arrays, n)[i]) for n in names}
+            for i in range(len(arrays.load))]
 
 
 def roller_contacts(bearing: Bearing, q) -> RollerContacts:

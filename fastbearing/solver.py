@@ -106,7 +106,7 @@ def _cold_start(f_target, q, f, K, balls, D, max_step):
     Starts small (so balls engage), then rescales with the Hertz exponent
     using the load's projection; never q = 0, where Kb = 0 without preload.
     Leaves f and Kb evaluated at the returned q. Returns (evaluations,
-    total ball load, loaded balls, reversed balls) of that evaluation.
+    total load, loaded contacts, warning bits) of that evaluation.
     """
     norm2 = 0.0
     for i in range(5):
@@ -155,7 +155,7 @@ def _descend(f_target, q, f, K, total, n_loaded, warn, balls, settings, tol, arm
     Stops when the scaled residual is within max(tol, rounding floor). On
     return f (and, for Newton, K) hold the values at the returned q, and
     work[_FLOOR, 0] the rounding floor there. Returns (status, iterations,
-    residual max-norm, evaluations, total ball load, reversed balls); any
+    residual max-norm, evaluations, total load, the kernel's warning bits); any
     status but CONVERGED sends the case to the fallback.
     """
     g = work[_G]
@@ -307,7 +307,7 @@ def _minimise_energy(f_target, q, f, K, balls, settings, tol, arm, reach, D, wor
     monotonically through 0 at the line's minimum (Pi is convex): bracket
     it geometrically, refine by regula falsi, keep a point where Pi has
     fallen. ``balls`` may carry a smoothing eps. Returns (status,
-    iterations, residual max-norm, evaluations, total, reversed balls).
+    iterations, residual max-norm, evaluations, total, warning bits).
     """
     g = work[_G]
     dp = work[_STEP]

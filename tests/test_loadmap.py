@@ -341,25 +341,31 @@ HARD_BEARING = 'preset = "gunduz2013"\narrangement = "single"\nradial_clearance 
 
 
 def test_ctrl_c_stops_inside_a_long_block(tmp_path):
-    """Loads of about 1 N on a single row with clearance, all in one block of several seconds: a SIGINT
-    stops the sweep within the block, not after it; nothing unfinished is kept."""
+    """Loads of about 1 N on a single row with clearance, all in one block of several seconds: a real
+    SIGINT stops the sweep inside the block (cases of it are left uncomputed), not after it, and the cut
+    block is not kept as done. How fast it stops is measured in bench/test_jobs.py, not asserted here."""
+    import dataclasses
+    import importlib
+
+    from fastbearing import jobs
+
     loadmap(config(tmp_path, "Fx = [0.5, 1.0]\nFz = 0.5\n", bearing=HARD_BEARING), tmp_path / "warm.h5",
-            progress=False)  # compiled before the clock starts
-    sent = []
+            progress=False)  # compiled first: the signal must find the sweep running
+    module = importlib.import_module("fastbearing.loadmap")
+    job = module.job(read_config(config(tmp_path, HARD_MAP, bearing=HARD_BEARING)))
+    left = []
 
-    def interrupt():
-        sent.append(time.perf_counter())
-        signal.raise_signal(signal.SIGINT)
+    def compute(inputs, res, first, stop):
+        res["status"][...] = -1                   # not a status: marks cases the sweep never reached
+        job.compute(inputs, res, first, stop)
+        left.append(int((res["status"] == -1).sum()))
 
-    timer = threading.Timer(1.0, interrupt)
+    timer = threading.Timer(0.5, signal.raise_signal, (signal.SIGINT,))
     timer.start()
-    started = time.perf_counter()
     with pytest.raises(KeyboardInterrupt):
-        loadmap(config(tmp_path, HARD_MAP, bearing=HARD_BEARING), tmp_path / "hard.h5", progress=False)
-    stopped = time.perf_counter()
+        jobs.run(dataclasses.replace(job, compute=compute), tmp_path / "hard.h5", progress=False)
     timer.join()
-    assert sent and stopped - sent[0] < 1.5, f"{stopped - sent[0]:.2f} s from SIGINT to stop"
-    assert stopped - started < 3.0     # the whole block takes 4-5 s on two cores
+    assert len(left) == 1 and 0 < left[0] < job.cases.n_cases, left   # stopped part way through the block
     with h5py.File(tmp_path / "hard.h5.part", "r") as fh:
         assert fh["block_done"][...].tolist() == [0]     # the cut block is not kept as done
 
