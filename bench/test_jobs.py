@@ -86,28 +86,38 @@ def _blocks_done(part):
         return 0
 
 
-@pytest.mark.benchmark(group="job runner: Ctrl-C to exit, 120 000-case map, blocks of 2 000")
-def test_ctrl_c_latency(benchmark, tmp_path):
-    cfg = tmp_path / "k.toml"
-    cfg.write_text(KILL_MAP)
+def sigint_latency(benchmark, tmp_path, text, args, started):
+    """Run ``fastbearing loadmap`` on the config ``text`` three times, send SIGINT once ``started(part)``
+    says the map is computing, and put the median time from the signal to the process's exit into
+    extra_info (the timed figure itself is the whole child process)."""
+    cfg = tmp_path / "c.toml"
+    cfg.write_text(text)
+    part = tmp_path / "c.h5.part"
+    latencies = []
 
     def run():
-        part = tmp_path / "k.h5.part"
         part.unlink(missing_ok=True)
-        proc = subprocess.Popen([sys.executable, "-m", "fastbearing.cli", "loadmap", str(cfg), "--threads", "1"],
+        proc = subprocess.Popen([sys.executable, "-m", "fastbearing.cli", "loadmap", str(cfg), *args],
                                 stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=tmp_path)
-        while proc.poll() is None and _blocks_done(part) < 2:
-            time.sleep(0.01)
+        started(proc, part)
         sent = time.perf_counter()
         proc.send_signal(signal.SIGINT)
         proc.communicate(timeout=60)
         latencies.append(time.perf_counter() - sent)
         assert proc.returncode == 130
 
-    latencies = []
-    benchmark.pedantic(run, rounds=3, iterations=1)      # times start-up to exit; the figure is the latency
+    benchmark.pedantic(run, rounds=3, iterations=1)
     if not benchmark.disabled:
         benchmark.extra_info["sigint_to_exit_s"] = sorted(latencies)[len(latencies) // 2]
+
+
+@pytest.mark.benchmark(group="job runner: Ctrl-C to exit, 120 000-case map, blocks of 2 000")
+def test_ctrl_c_latency(benchmark, tmp_path):
+    def two_blocks_done(proc, part):
+        while proc.poll() is None and _blocks_done(part) < 2:
+            time.sleep(0.01)
+
+    sigint_latency(benchmark, tmp_path, KILL_MAP, ["--threads", "1"], two_blocks_done)
 
 
 HARD_MAP = ('[bearing]\npreset = "gunduz2013"\narrangement = "single"\nradial_clearance = 0.01\n\n[loadmap]\n'
@@ -117,24 +127,9 @@ HARD_MAP = ('[bearing]\npreset = "gunduz2013"\narrangement = "single"\nradial_cl
 
 @pytest.mark.benchmark(group="job runner: Ctrl-C to exit, hard 160 000-case map, default blocks (2-3 s each)")
 def test_ctrl_c_latency_hard_map(benchmark, tmp_path):
-    cfg = tmp_path / "h.toml"
-    cfg.write_text(HARD_MAP)
-
-    def run():
-        part = tmp_path / "h.h5.part"
-        part.unlink(missing_ok=True)
-        proc = subprocess.Popen([sys.executable, "-m", "fastbearing.cli", "loadmap", str(cfg)],
-                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=tmp_path)
+    def inside_the_first_block(proc, part):
         while proc.poll() is None and not part.exists():
             time.sleep(0.01)
-        time.sleep(1.0)                                  # inside the first block (kernels cached)
-        sent = time.perf_counter()
-        proc.send_signal(signal.SIGINT)
-        proc.communicate(timeout=60)
-        latencies.append(time.perf_counter() - sent)
-        assert proc.returncode == 130
+        time.sleep(1.0)                                  # kernels cached: the first block is computing
 
-    latencies = []
-    benchmark.pedantic(run, rounds=3, iterations=1)
-    if not benchmark.disabled:
-        benchmark.extra_info["sigint_to_exit_s"] = sorted(latencies)[len(latencies) // 2]
+    sigint_latency(benchmark, tmp_path, HARD_MAP, [], inside_the_first_block)
