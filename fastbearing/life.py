@@ -369,12 +369,12 @@ def life(bearing, load, q, settings: LifeSettings | None = None) -> LifeResult:
     displacement ``q`` (mm, rad): ISO 281 L10 of the bearing as a unit (radial load hypot(Fx, Fy), axial
     |Fz|; moments are not in ISO 281's P) and ISO/TS 16281 L10r from the ball loads at q (moments,
     clearance, preload and every arrangement included)."""
-    from .api import ball_loads
     from .contacts import ball_contacts
 
     settings = settings or LifeSettings()
     r = ratings(bearing)
-    Q, _ = ball_loads(bearing, q)
+    contacts = ball_contacts(bearing, q)          # one kernel evaluation: loads and pressures
+    Q = contacts.load
     rows = bearing.ball_table()[ROW].astype(int)
     cube = np.bincount(rows, Q ** 3, minlength=bearing.n_rows)
     ten = np.bincount(rows, Q ** (10.0 / 3.0), minlength=bearing.n_rows)
@@ -395,7 +395,7 @@ def life(bearing, load, q, settings: LifeSettings | None = None) -> LifeResult:
     else:
         notes.append(f"ISO 281 rates single rows and pairs (DB, DF, DT) as a unit, not a {bearing.arrangement} set: "
                      "L10 and S0 are given per row only through L10r")
-    pressure = ball_contacts(bearing, q).max_pressure_per_row()
+    pressure = contacts.max_pressure_per_row()
     a = L_nmr = None
     if settings.kappa is not None:
         C0 = r.C0 if r.C0 is not None else float(r.C0_row.sum())
