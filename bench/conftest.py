@@ -9,6 +9,8 @@ import pytest
 sys.path.insert(0, str(Path(__file__).parent))
 
 import fastbearing as fb  # noqa: E402
+from fastbearing.kernel import ball_loop  # noqa: E402
+from numba import njit  # noqa: E402
 
 BEARING = fb.Bearing.preset("gunduz2013", "DB")
 TABLE3 = np.array([1000.0, 0.0, 0.0, 0.0, -74000.0])
@@ -25,3 +27,16 @@ def random_loads(n, seed=0):
 @pytest.fixture(scope="session")
 def bearing():
     return BEARING
+
+
+@njit
+def repeat_kernel(q, balls, n):
+    """n kernel evaluations inside compiled code: no dispatch overhead in the figure."""
+    f = np.empty(5)
+    K = np.empty((5, 5))
+    acc = 0.0
+    for i in range(n):
+        q[0] += 1e-15  # defeat loop-invariant hoisting
+        ball_loop(q, balls, f, K, None, None)
+        acc += K[0, 0]
+    return acc

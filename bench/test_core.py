@@ -6,28 +6,13 @@ in; every ratio is against a baseline timed in the same process.
 
 import numpy as np
 import pytest
-from conftest import BEARING, TABLE3, TABLE4, random_loads
-from numba import njit
+from conftest import BEARING, TABLE3, TABLE4, random_loads, repeat_kernel
 from peer_scipy import load_and_stiffness
 
 import fastbearing as fb
-from fastbearing.kernel import ball_loop
 
 Q = fb.solve(BEARING, TABLE4).q
 EVALS_PER_ROUND = 1000
-
-
-@njit
-def repeat_kernel(q, balls, n):
-    """n kernel evaluations inside compiled code: no dispatch overhead in the figure."""
-    f = np.empty(5)
-    K = np.empty((5, 5))
-    acc = 0.0
-    for i in range(n):
-        q[0] += 1e-15  # defeat loop-invariant hoisting
-        ball_loop(q, balls, f, K, None, None)
-        acc += K[0, 0]
-    return acc
 
 
 @pytest.mark.benchmark(group="kernel: f and Kb at q, 28 balls")

@@ -19,6 +19,7 @@ from numba import njit, types
 from numba.extending import overload
 
 from .config import CACHE, ERROR_MODEL, KERNEL_FASTMATH
+from .roots import ninth_root
 from .status import BEYOND_VALIDITY, CONTACT_REVERSED
 
 #: The running sums of f (5) and the 14 independent Kb entries, at zero.
@@ -237,22 +238,57 @@ def ball_loop(q, balls, f, K, ball_load, contact_angle):
     _store(acc, f, K, False)
     warnings = (CONTACT_REVERSED if n_reversed > 0 else 0) | (BEYOND_VALIDITY if n_beyond > 0 else 0)
     if slices.shape[1] > 0:
-        t, n = slice_loop(q, slices, smoothing, f, K, ball_load, contact_angle, table.shape[1])
+        t, n = slice_loop(q, slices, smoothing, f, K, ball_load, contact_angle)
         total += t
         n_loaded += n
     return total, n_loaded, warnings
 
 
+@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def _slice_contact(approach, k, smoothing):
+    """A slice's (delta, delta^(1/9), load Q = k delta^(10/9), Q' = dQ/d(approach)) from its approach (mm)."""
+    delta, slope = clamped_deflection(approach, smoothing)
+    # floored: an unloaded slice's root of 0 would start from a subnormal guess (slow), then zeroed
+    root = ninth_root(max(delta, 1e-200)) * (delta > 0.0)
+    return delta, root, k * delta * root, (10.0 / 9.0) * k * root * slope
+
+
+@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def _add_roller(acc, c, s, nr, nz, F0, G, T0, T1, T2):
+    """One roller's share of f and Kb added to the running sums ``acc`` (as :func:`_add_contact`) from the
+    moments of its slices. Slice k at x_k along the roller has the gradient v_k = d(delta_k)/dq =
+    (nr c, nr s, nz, m_k s, -m_k c) with the lever m_k = nz R_k - nr z_k, so f += sum Q_k v_k and
+    Kb += sum Q'_k v_k v_k^T need only F0 = sum Q_k, G = sum Q_k m_k, T0 = sum Q'_k, T1 = sum Q'_k m_k
+    and T2 = sum Q'_k m_k^2."""
+    (f0, f1, f2, f3, f4, k00, k01, k02, k03, k04, k11, k12, k13, k22, k23, k24, k33, k34, k44) = acc
+    cc = c * c
+    ss = s * s
+    cs = c * s
+    a = T0 * nr * nr
+    b = T0 * nr * nz
+    d = T1 * nr
+    e = T1 * nz
+    return (f0 + F0 * nr * c, f1 + F0 * nr * s, f2 + F0 * nz, f3 + G * s, f4 - G * c,
+            k00 + a * cc, k01 + a * cs, k02 + b * c, k03 + d * cs, k04 - d * cc,
+            k11 + a * ss, k12 + b * s, k13 + d * ss,
+            k22 + T0 * nz * nz, k23 + e * s, k24 - e * c,
+            k33 + T2 * ss, k34 - T2 * cs, k44 + T2 * cc)
+
+
 @njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, nogil=True)
-def slice_loop(q, slices, smoothing, f, K, element_load, element_angle, first):
+def slice_loop(q, slices, smoothing, f, K, element_load, element_angle):
     """Add the roller slices' contacts to f (5) and, unless ``K`` is None, Kb (5x5), in place.
 
-    Per slice (rollers.py): the rigid-ring approach at the slice, d = n . (dr, dz) + offset along the
-    fixed normal n = (nr, nz), delta = max(d, 0) (or the solver's smoothed form), load
+    Per slice (rollers.py): the rigid-ring approach at the slice along the fixed normal n = (nr, nz),
+    d = n . (dr_k, dz_k) + offset_k, delta = max(d, 0) (or the solver's smoothed form), load
     Q = k delta^(10/9) with k = K/slices; it adds Q n mapped by J^T to f and Q' J^T n n^T J to Kb
-    (a fixed normal has no geometric stiffness). ``element_load`` (when not None) receives each
-    roller's total load at its place in the record (the slice table's roller column; the rollers follow
-    the ``first`` entries of the balls), ``element_angle`` the contact angle (rad).
+    (a fixed normal has no geometric stiffness). Along a roller the approach is linear in x_k (the ring is
+    rigid): d_k = d_c + g x_k + offset_k with d_c the approach at the roller's centre and
+    g = by cos(psi) - bx sin(psi) the ring's tilt across it, so the inner loop over a roller's slices is
+    one ninth root (roots.py) and five sums (:func:`_add_roller`), not a rigid-ring map per slice.
+    ``element_load`` (when not None) receives each roller's total load at its place in the record (the
+    slice table's roller column, after the balls), ``element_angle``
+    the contact angle (rad); a record longer than that also takes every slice's load, after the rollers.
     Returns (total slice load N, loaded slices).
     """
     cos_psi = slices[0]
@@ -265,45 +301,60 @@ def slice_loop(q, slices, smoothing, f, K, element_load, element_angle, first):
     stiffness = slices[7]
     roller = slices[9]
     angle = slices[10]
+    position = slices[12]
+    count = slices[13]
     dx = q[0]
     dy = q[1]
     dz = q[2]
     bx = q[3]
     by = q[4]
     n_slices = slices.shape[1]
-    # a record longer than the elements also takes every slice's load, after the rollers (solve --balls)
     slice_base = int(roller[n_slices - 1]) + 1
     per_slice = element_load is not None and element_load.shape[0] >= slice_base + n_slices
-    if element_load is not None:
-        for j in range(first, slice_base):
-            element_load[j] = 0.0
     acc = ZERO_SUMS
     total = 0.0
     n_loaded = 0
-    for k in range(slices.shape[1]):
-        c = cos_psi[k]
-        s = sin_psi[k]
-        z = axial[k]
-        R = radius[k]
-        dr = (dx + z * by) * c + (dy - z * bx) * s
-        dzb = dz + R * (bx * s - by * c)
-        delta, slope = clamped_deflection(nr[k] * dr + nz[k] * dzb + offset[k], smoothing)
-        root = delta ** (1.0 / 9.0)
-        Q = stiffness[k] * delta * root
-        dQ = (10.0 / 9.0) * stiffness[k] * root * slope
-        n_loaded += delta > 0.0
-        total += Q
+    start = 0
+    while start < n_slices:
+        stop = start + int(count[start])
+        c = cos_psi[start]
+        s = sin_psi[start]
+        z = axial[start]
+        R = radius[start]
+        a = nr[start]
+        b = nz[start]
+        k = stiffness[start]
+        d_c = a * ((dx + z * by) * c + (dy - z * bx) * s) + b * (dz + R * (bx * s - by * c))
+        g = by * c - bx * s
+        m_c = b * R - a * z
+        F0 = 0.0
+        G = 0.0
+        T0 = 0.0
+        T1 = 0.0
+        T2 = 0.0
+        loaded = 0
+        for i in range(start, stop):  # no stores in here: the loop vectorises
+            x = position[i]
+            delta, root, Q, dQ = _slice_contact(d_c + g * x + offset[i], k, smoothing)
+            m = m_c - x
+            F0 += Q
+            G += Q * m
+            loaded += delta > 0.0
+            if K is not None:
+                T0 += dQ
+                T1 += dQ * m
+                T2 += dQ * m * m
+        if per_slice:  # solve --balls: every slice's load, again, apart from the fast loop
+            for i in range(start, stop):
+                element_load[slice_base + i] = _slice_contact(d_c + g * position[i] + offset[i], k, smoothing)[2]
+                element_angle[slice_base + i] = angle[i]
         if element_load is not None:
-            j = int(roller[k])  # the roller's place in the element record (after the balls)
-            element_load[j] += Q
-            element_angle[j] = angle[k]
-            if per_slice:
-                element_load[slice_base + k] = Q
-                element_angle[slice_base + k] = angle[k]
-        if K is not None:  # a fixed normal: H = Q' n n^T, no geometric term
-            acc = _add_contact(acc, c, s, z, R, Q * nr[k], Q * nz[k], dQ * nr[k] * nr[k], dQ * nr[k] * nz[k],
-                               dQ * nz[k] * nz[k])
-        else:
-            acc = _add_load(acc, c, s, z, R, Q * nr[k], Q * nz[k])
+            j = int(roller[start])  # the roller's place in the element record (after the balls)
+            element_load[j] = F0
+            element_angle[j] = angle[start]
+        total += F0
+        n_loaded += loaded
+        acc = _add_roller(acc, c, s, a, b, F0, G, T0, T1, T2)
+        start = stop
     _store(acc, f, K, True)
     return total, n_loaded

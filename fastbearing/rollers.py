@@ -38,10 +38,11 @@ MAX_ROLLERS = 10_000
 #: E' = E/(1 - nu^2) of steel (E = 207 000 N/mm^2, nu = 0.3), N/mm^2: the default of the logarithmic crown.
 STEEL_REDUCED_MODULUS = 207000.0 / (1.0 - 0.3 ** 2)
 
-# Rows of the per-slice table the kernel reads (column k is slice k).
+# Rows of the per-slice table the kernel reads (column k is slice k; a roller's slices are contiguous and
+# share its azimuth, centre (S_AXIAL, S_RADIUS), normal and S_COUNT; S_POSITION is x_k along the roller).
 (S_COS_PSI, S_SIN_PSI, S_AXIAL, S_RADIUS, S_NORMAL_R, S_NORMAL_Z, S_OFFSET, S_STIFFNESS, S_ROW, S_ROLLER,
- S_ANGLE, S_SCALE) = range(12)
-N_SLICE_COLUMNS = 12
+ S_ANGLE, S_SCALE, S_POSITION, S_COUNT) = range(14)
+N_SLICE_COLUMNS = 14
 #: A roller row's deflection scale as a fraction of its effective length (the solver's step and smoothing
 #: scale, as A0 is a ball row's): 0.02 l, e.g. 0.2 mm for a 10 mm roller.
 DEFLECTION_SCALE = 0.02
@@ -197,8 +198,8 @@ def slice_table(rows, first_roller: int, cage_angle: float = 0.0) -> np.ndarray:
             sl = slice(k, k + r.slices)
             table[S_COS_PSI, sl] = math.cos(psi)
             table[S_SIN_PSI, sl] = math.sin(psi)
-            table[S_AXIAL, sl] = r.axial_offset + x * math.cos(a)
-            table[S_RADIUS, sl] = r.pitch_radius - s * x * math.sin(a)
+            table[S_AXIAL, sl] = r.axial_offset  # the roller's centre; slice k is x_k further along t
+            table[S_RADIUS, sl] = r.pitch_radius
             table[S_NORMAL_R, sl] = math.cos(a)
             table[S_NORMAL_Z, sl] = s * math.sin(a)
             table[S_OFFSET, sl] = offset
@@ -207,6 +208,8 @@ def slice_table(rows, first_roller: int, cage_angle: float = 0.0) -> np.ndarray:
             table[S_ROLLER, sl] = roller
             table[S_ANGLE, sl] = a
             table[S_SCALE, sl] = r.deflection_scale
+            table[S_POSITION, sl] = x
+            table[S_COUNT, sl] = r.slices
             k += r.slices
             roller += 1
     return table

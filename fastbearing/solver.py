@@ -522,9 +522,9 @@ def solve_case(f_target, q, f, K, balls, settings, warm, work, ball_load, contac
     for j in range(table.shape[1]):
         reach = max(reach, table[6, j])
         zmax = max(zmax, abs(table[2, j]))
-    for k in range(slices.shape[1]):  # a roller slice: its row's deflection scale and axial position
+    for k in range(slices.shape[1]):  # a roller slice: its row's deflection scale, centre and place on it
         reach = max(reach, slices[11, k])
-        zmax = max(zmax, abs(slices[2, k]))
+        zmax = max(zmax, abs(slices[2, k]) + abs(slices[12, k]))
     arm = 1.0 + zmax / settings.length_scale
     scale = 0.0
     for i in range(5):

@@ -14,6 +14,7 @@ from numba.extending import intrinsic
 from .config import CACHE, ERROR_MODEL
 from .kernel import ball_loop
 from .linalg import cholesky_solve
+from .roots import cube_root
 from .solver import WORK_ROWS, solve_case
 from .status import CONVERGED, NONFINITE_RESULT, OUTCOME_MASK, UNLOADED
 
@@ -75,7 +76,7 @@ def row_summary(ball_load, contact_angle, ball_row, max_load, n_loaded, min_angl
         n_loaded[r] = 0
         min_angle[r] = np.inf
         max_angle[r] = -np.inf
-    for j in range(ball_load.shape[0]):
+    for j in range(ball_row.shape[0]):  # the elements; a longer record's slices follow them
         r = ball_row[j]
         if ball_load[j] > 0.0:
             max_load[r] = max(max_load[r], ball_load[j])
@@ -90,45 +91,30 @@ def row_summary(ball_load, contact_angle, ball_row, max_load, n_loaded, min_angl
             max_angle[r] = np.nan
 
 
-@njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True)
-def cube_root(x, bits, as_int):
-    """x^(1/3) for x > 0, to a few ulp, in about half the time of libm's cbrt: an exponent-third guess
-    from the float's bits (``bits``: a 1-element float64 scratch array, ``as_int`` its int64 view), then
-    three Halley steps (cubic convergence from a guess within about 5 %)."""
-    bits[0] = x
-    as_int[0] = as_int[0] // 3 + 0x2A9F7893782DA1CE
-    y = bits[0]
-    for _ in range(3):
-        y3 = y * y * y
-        y = y * (y3 + 2.0 * x) / (2.0 * y3 + x)
-    return y
-
-
-#: Rows of the ``life`` parameter table (rows, 6) a map's sweep reads (life.life_table builds it).
-LIFE_CI, LIFE_CE, LIFE_Z, LIFE_INNER, LIFE_X0, LIFE_Y0 = range(6)
+#: Rows of the ``life`` parameter table (rows, 8) a map's sweep reads (life.life_table builds it).
+LIFE_CI, LIFE_CE, LIFE_Z, LIFE_INNER, LIFE_X0, LIFE_Y0, LIFE_SLICES, LIFE_FIRST = range(8)
 
 
 @njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True)
-def case_life(ball_load, ball_row, life, sums, L_row, bits, as_int):
+def case_life(ball_load, ball_row, life, sums, L_row):
     """ISO/TS 16281 L10r (million revolutions) of one case from its ball loads (N); fills ``L_row`` per row.
 
     With Q_ei, Q_ee the cubic and 10/3 means over a row's Z balls (rotating and stationary ring),
     (Q_c/Q_e)^(-10/3) is Q_c^(-10/3) (S3/Z)^(10/9) for the cubic mean and Q_c^(-10/3) S10/Z for the other
     (S3, S10: sums of Q^3, Q^(10/3)), so a row costs two powers; and since rows combine with exponent
     10/9 = 1/0.9, the bearing's L10r is (sum over rows of the rows' brackets)^(-0.9): one more.
-    ``life[r, LIFE_CI]``, ``[LIFE_CE]`` hold Q_ci^(-10/3), Q_ce^(-10/3); ``sums`` (rows, 2), ``bits``
-    (1,) and its int64 view ``as_int`` are scratch.
+    ``life[r, LIFE_CI]``, ``[LIFE_CE]`` hold Q_ci^(-10/3), Q_ce^(-10/3); ``sums`` (rows, 2) is scratch.
     """
     n_rows = sums.shape[0]
     for r in range(n_rows):
         sums[r, 0] = 0.0
         sums[r, 1] = 0.0
-    for j in range(ball_load.shape[0]):
+    for j in range(ball_row.shape[0]):
         Q = ball_load[j]
         if Q > 0.0:
             cube = Q * Q * Q
             sums[ball_row[j], 0] += cube
-            sums[ball_row[j], 1] += cube * cube_root(Q, bits, as_int)
+            sums[ball_row[j], 1] += cube * cube_root(Q)
     total = 0.0
     for r in range(n_rows):
         cubic = (sums[r, 0] / life[r, LIFE_Z]) ** (10.0 / 9.0)
@@ -140,6 +126,43 @@ def case_life(ball_load, ball_row, life, sums, L_row, bits, as_int):
         L_row[r] = bracket ** -0.9 if bracket > 0.0 else np.inf
         total += bracket
     return total ** -0.9 if total > 0.0 else np.inf
+
+
+@njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True)
+def roller_case_life(record, n_elements, life, L_row):
+    """ISO/TS 16281 L10r (million revolutions) of one case of a roller bearing from its slice loads (N, the
+    kernel's per-slice record after the ``n_elements`` elements); fills ``L_row`` per row.
+
+    Per lamina k the rotating ring sees the 4th-power mean over the Z rollers and the stationary ring the
+    9/2-power mean, so (q_e/q_c)^(9/2) is q_c^(-9/2) (S4/Z)^(9/8) or q_c^(-9/2) S9/Z (S4, S9: sums of
+    q^4, q^(9/2) = q^4 sqrt(q)): one power per lamina; a row's L10r is its bracket^(-8/9) and, rows
+    combining with the Weibull slope 9/8, the bearing's is (sum of the rows' brackets)^(-8/9).
+    ``life[r, LIFE_CI]``, ``[LIFE_CE]`` hold the laminae's q_ci^(-9/2), q_ce^(-9/2).
+    """
+    total = 0.0
+    for r in range(life.shape[0]):
+        ns = int(life[r, LIFE_SLICES])
+        Z = int(life[r, LIFE_Z])
+        first = n_elements + int(life[r, LIFE_FIRST])
+        inner = life[r, LIFE_INNER] != 0.0
+        bracket = 0.0
+        for k in range(ns):
+            s4 = 0.0
+            s9 = 0.0
+            for j in range(Z):
+                qk = record[first + j * ns + k]
+                if qk > 0.0:
+                    q4 = qk * qk * qk * qk
+                    s4 += q4
+                    s9 += q4 * math.sqrt(qk)
+            if s4 > 0.0:
+                fourth = (s4 / Z) ** (9.0 / 8.0)
+                nine = s9 / Z
+                bracket += (life[r, LIFE_CI] * fourth + life[r, LIFE_CE] * nine if inner
+                            else life[r, LIFE_CI] * nine + life[r, LIFE_CE] * fourth)
+        L_row[r] = bracket ** (-8.0 / 9.0) if bracket > 0.0 else np.inf
+        total += bracket
+    return total ** (-8.0 / 9.0) if total > 0.0 else np.inf
 
 
 @njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True)
@@ -221,22 +244,23 @@ def map_sweep(inputs, given_load, segments, q, f, K, status, iterations, residua
     by the tangent predictor, falling back to a cold start inside the solver
     when that fails. ``stop[0] != 0`` (set by Ctrl-C from another thread)
     ends the sweep at the next case; the block is then incomplete. With a
-    ``life`` table (rows, 6; life.life_table) of more than zero rows, L10r,
+    ``life`` table (rows, 8; life.life_table) of more than zero rows, L10r,
     L10r_row and the static safety (with C0 in N; nan where a case did not
     converge) are filled too (else they may be (1, ...) arrays, untouched).
     """
     want_life = life.shape[0] > 0
+    roller_life = want_life and life[0, LIFE_SLICES] > 0.0
     n_runs = segments.shape[0] - 1
     groups = min(n_runs, MAP_GROUPS)
     n_elements = ball_row.shape[0]
+    # a roller bearing's life needs every slice's load: the record then carries them after the elements
+    n_record = n_elements + (balls[3].shape[1] if roller_life else 0)
     for g in prange(groups):
         work = np.empty((WORK_ROWS, 5))
         predictor = np.empty((7, 5))
-        ball_load = np.empty(n_elements)
-        contact_angle = np.empty(n_elements)
+        ball_load = np.empty(n_record)
+        contact_angle = np.empty(n_record)
         sums = np.empty((max(life.shape[0], 1), 2))
-        bits = np.empty(1)
-        as_int = bits.view(np.int64)
         for run in range(g, n_runs, groups):
             if stop_requested(stop):
                 break
@@ -252,7 +276,10 @@ def map_sweep(inputs, given_load, segments, q, f, K, status, iterations, residua
                             max_angle[i])
                 if want_life:
                     if (status[i] & OUTCOME_MASK) == CONVERGED or (status[i] & OUTCOME_MASK) == UNLOADED:
-                        L10r[i] = case_life(ball_load, ball_row, life, sums, L10r_row[i], bits, as_int)
+                        if roller_life:
+                            L10r[i] = roller_case_life(ball_load, n_elements, life, L10r_row[i])
+                        else:
+                            L10r[i] = case_life(ball_load, ball_row, life, sums, L10r_row[i])
                         safety[i] = static_safety(inputs[i] if given_load else f[i], life, C0)
                     else:
                         L10r[i] = np.nan
