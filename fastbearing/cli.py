@@ -750,7 +750,7 @@ def _life_text(life: dict) -> str:
     lines.append(f"  L10 (ISO 281) = {g(life['L10'])}{hours(life['L10'])}  L10r (ISO/TS 16281) = {g(life['L10r'])}"
                  f"{hours(life['L10r'])}")
     if life["max_contact_pressure"] is not None:
-        lines.append(f"  largest contact pressure {life['max_contact_pressure']:.6g} N/mm^2 (limit 4200)")
+        lines.append(f"  largest contact pressure {life['max_contact_pressure']:.6g} N/mm^2 (limit {life['pressure_limit']:g})")
     if life["a_iso"] is not None:
         lines.append(f"  a_ISO = {life['a_iso']:.4g}  L_nmr = {g(life['L_nmr'])}{hours(life['L_nmr'])}")
     lines += [f"  note: {n}" for n in life["notes"]]

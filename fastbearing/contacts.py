@@ -100,6 +100,24 @@ def _records(arrays, integers) -> list[dict]:
             for i in range(len(arrays.load))]
 
 
+def slice_loads(bearing: Bearing, q) -> tuple[np.ndarray, list[np.ndarray]]:
+    """Every roller's total load (N, by element after the balls) and each roller row's slice loads as a
+    (Z, slices) array (N), at displacement q (mm, rad): one evaluation of the one kernel with its
+    per-slice record."""
+    from .kernel import ball_loop
+
+    slices = bearing.slice_table()
+    n_el, n_sl = bearing.n_elements, slices.shape[1]
+    load = np.empty(n_el + n_sl)
+    angle = np.empty(n_el + n_sl)
+    ball_loop(np.asarray(q, float), bearing.ball_set(), np.empty(5), None, load, angle)
+    per_row, k = [], n_el
+    for _, r in bearing.roller_rows:
+        per_row.append(load[k:k + r.n_rollers * r.slices].reshape(r.n_rollers, r.slices))
+        k += r.n_rollers * r.slices
+    return load[bearing.n_balls:n_el], per_row
+
+
 def roller_contacts(bearing: Bearing, q) -> RollerContacts:
     """Per-roller loads and their slices at displacement q (mm, rad), from the one kernel's record.
 
@@ -108,34 +126,22 @@ def roller_contacts(bearing: Bearing, q) -> RollerContacts:
     the outer raceway (g = Dw cos a / dm; Harris & Kotzalas, Essential Concepts, ch. 6).
     """
     from .api import _as_vector, _check_bearing
-    from .kernel import ball_loop
-    from .rollers import S_ROLLER
 
     bearing = _check_bearing(bearing)
     q = _as_vector(q, "q", "dx, dy, dz in mm; bx, by in rad")
-    slices = bearing.slice_table()
-    n_el, n_sl = bearing.n_elements, slices.shape[1]
-    load = np.empty(n_el + n_sl)
-    angle = np.empty(n_el + n_sl)
-    ball_loop(q, bearing.ball_set(), np.empty(5), None, load, angle)
+    totals, per_row = slice_loads(bearing, q)
     rows, numbers, azimuth, peak, where, widths = [], [], [], [], [], []
-    roller_of = slices[S_ROLLER].astype(np.int64)
-    k = 0
     g = bearing.geometry if hasattr(bearing.geometry, "roller_diameter") else None
-    for i, r in bearing.roller_rows:
+    for (i, r), loads in zip(bearing.roller_rows, per_row):
         x = r.slice_positions
         for j in range(r.n_rollers):
-            s = load[n_el + k:n_el + k + r.slices]
             rows.append(i)
             numbers.append(j)
             azimuth.append((math.radians(r.first_element_angle) + 2 * math.pi * j / r.n_rollers) % (2 * math.pi))
-            m = int(np.argmax(s))
-            peak.append(s[m])
+            m = int(np.argmax(loads[j]))
+            peak.append(loads[j, m])
             where.append(x[m])
             widths.append(r.roller_effective_length / r.slices)
-            k += r.slices
-    first = int(roller_of[0]) if n_sl else n_el
-    totals = load[first:n_el]
     out = dict(row=np.array(rows, np.int64), roller=np.array(numbers, np.int64), azimuth=np.array(azimuth),
                load=totals, max_slice_load=np.array(peak), max_slice_position=np.array(where))
     if g is not None:

@@ -14,7 +14,15 @@ standards themselves are not public):
   equivalent contact loads (cubic mean on the rotating ring, 10/3 mean on the stationary one, over all
   Z balls), L10r = ((Q_ci/Q_ei)^(-10/3) + (Q_ce/Q_ee)^(-10/3))^(-0.9), rows combined as
   (sum L^(-10/9))^(-0.9); as implemented in github.com/minzhun/ISO16281 (BallBearing.py, commit
-  1b0e9ded), whose reference results tests/test_life.py reproduces.
+  1b0e9ded), whose reference results tests/test_life.py reproduces;
+- roller rows: ISO 281 Eq. (6)-(7) (C_r = b_m f_c (i l cos a)^(7/9) Z^(3/4) Dw^(29/27), b_m = 1.1, f_c from
+  its closed form behind Table 7 with lambda nu = 0.83), Table 8 (X, Y, e = 1.5 tan a) and the roller
+  a_ISO (Eq. 18-20, C_u ~ C0/8.2); ISO 76 (C_0r = 44 (1 - g) i Z l Dw cos a, X_0 = 0.5, Y_0 = 0.22 cot a);
+  ISO/TS 16281 sliced: roller ratings Q_ci, Q_ce from C_r, lamina ratings q_c = Q_c n_s^(-7/9), per
+  lamina k the equivalent loads over the Z rollers (4th-power mean on the rotating ring, 9/2-power mean on
+  the stationary one) and L10r = (sum_k (q_ei,k/q_ci)^(9/2) + (q_ee,k/q_ce)^(9/2))^(-8/9), rows combined
+  with the Weibull slope 9/8; as implemented in github.com/minzhun/ISO16281 (RollerBearing.py, commit
+  220b2feb), checked in tests/test_life.py.
 """
 
 from __future__ import annotations
@@ -65,6 +73,8 @@ _DOUBLE_FIXED = {20: (1.09, 0.70, 1.63, 0.57), 25: (0.92, 0.67, 1.41, 0.68), 30:
 _Y0_SINGLE = {0: 0.5, 5: 0.52, 10: 0.50, 15: 0.46, 20: 0.42, 25: 0.38, 30: 0.33, 35: 0.29, 40: 0.26, 45: 0.22}
 #: Contact pressure limit for ball bearings (ISO 76: C0 corresponds to 4200 N/mm^2), N/mm^2.
 PRESSURE_LIMIT = 4200.0
+#: ... and for roller bearings (line contact, ISO 76: 4000 N/mm^2), N/mm^2.
+ROLLER_PRESSURE_LIMIT = 4000.0
 ROTATING = ("inner", "outer")
 
 
@@ -134,6 +144,102 @@ def contact_ratings(geometry, C_row: float) -> tuple[float, float]:
     return C_row / (0.407 * zc) * (1.0 + T ** (10.0 / 3.0)) ** 0.3, C_row / (0.389 * zc) * (1.0 + T ** (-10.0 / 3.0)) ** 0.3
 
 
+# -- roller rows ----------------------------------------------------------------------------------
+
+B_M_ROLLER = 1.1
+#: ISO 281 life exponent of roller bearings, and the Weibull slope combining roller rows.
+ROLLER_LIFE_EXPONENT = 10.0 / 3.0
+ROLLER_ROW_EXPONENT = 9.0 / 8.0
+#: lambda nu of radial roller bearings (ISO 281 f_c, ISO/TS 16281 Q_c).
+LAMBDA_NU_ROLLER = 0.83
+
+
+def roller_gamma(geometry) -> float:
+    """gamma = Dw cos(a)/Dpw of a roller geometry."""
+    return geometry.roller_diameter * math.cos(math.radians(geometry.contact_angle)) / geometry.pitch_diameter
+
+
+def roller_fc(g: float) -> float:
+    """ISO 281 f_c of radial roller bearings at gamma = Dw cos(a)/Dpw: the closed form behind Table 7,
+    207.9 lambda nu g^(2/9) (1 - g)^(29/27) (1 + g)^(-1/4) (1 + (1.04 ((1 - g)/(1 + g))^(143/108))^(9/2))^(-2/9)."""
+    t = (1.04 * ((1.0 - g) / (1.0 + g)) ** (143.0 / 108.0)) ** 4.5
+    return (207.9 * LAMBDA_NU_ROLLER * g ** (2.0 / 9.0) * (1.0 - g) ** (29.0 / 27.0) * (1.0 + g) ** -0.25
+            * (1.0 + t) ** (-2.0 / 9.0))
+
+
+def iso_roller_dynamic_rating(geometry, rows: int = 1) -> float:
+    """ISO 281 C_r (N) of ``rows`` rows of a roller geometry as a unit: b_m f_c (i l cos a)^(7/9) Z^(3/4)
+    Dw^(29/27), b_m = 1.1, l the effective length (mm)."""
+    cos_a = math.cos(math.radians(geometry.contact_angle))
+    return (B_M_ROLLER * roller_fc(roller_gamma(geometry))
+            * (rows * geometry.roller_effective_length * cos_a) ** (7.0 / 9.0)
+            * geometry.n_rollers ** 0.75 * geometry.roller_diameter ** (29.0 / 27.0))
+
+
+def iso_roller_static_rating(geometry, rows: int = 1) -> float:
+    """ISO 76 C_0r = 44 (1 - g) i Z l Dw cos(a) (N) of a roller geometry (4000 N/mm^2 at the centre)."""
+    cos_a = math.cos(math.radians(geometry.contact_angle))
+    return (44.0 * (1.0 - roller_gamma(geometry)) * rows * geometry.n_rollers * geometry.roller_effective_length
+            * geometry.roller_diameter * cos_a)
+
+
+def roller_row_ratings(geometry, rows: int = 1) -> tuple[float, float]:
+    """(C, C0) of one roller row in N: the catalogue's unit ratings over rows^(7/9) and rows, else ISO's."""
+    C = (geometry.dynamic_load_rating / rows ** (7.0 / 9.0) if geometry.dynamic_load_rating is not None
+         else iso_roller_dynamic_rating(geometry))
+    C0 = (geometry.static_load_rating / rows if geometry.static_load_rating is not None
+          else iso_roller_static_rating(geometry))
+    return C, C0
+
+
+def roller_contact_ratings(geometry, C_row: float) -> tuple[float, float]:
+    """ISO/TS 16281 dynamic load ratings Q_ci, Q_ce (N) of a whole roller on the inner and outer raceway of a
+    row rated C_row: Q_ci = C/(0.378 lambda nu Z cos a) (1 + (1.038 T)^(9/2))^(2/9), Q_ce = C/(0.364 lambda nu
+    Z cos a) (1 + (1.038 T)^(-9/2))^(2/9), T = ((1 - g)/(1 + g))^(143/108)."""
+    g = roller_gamma(geometry)
+    T = 1.038 * ((1.0 - g) / (1.0 + g)) ** (143.0 / 108.0)
+    zc = LAMBDA_NU_ROLLER * geometry.n_rollers * math.cos(math.radians(geometry.contact_angle))
+    return C_row / (0.378 * zc) * (1.0 + T ** 4.5) ** (2.0 / 9.0), C_row / (0.364 * zc) * (1.0 + T ** -4.5) ** (2.0 / 9.0)
+
+
+def roller_row_life(slice_loads, Q_ci: float, Q_ce: float, rotating: str = "inner") -> float:
+    """ISO/TS 16281 L10r (million revolutions) of a roller row from its slice loads (Z, n_s) in N: lamina
+    ratings q_c = Q_c n_s^(-7/9); per lamina the 4th-power mean over the rollers on the rotating ring and
+    the 9/2-power mean on the stationary one; (sum over laminae of (q_e/q_c)^(9/2), both rings)^(-8/9)."""
+    q = np.asarray(slice_loads, float)
+    n_rollers, n_slices = q.shape
+    q_ci, q_ce = (Q * n_slices ** (-7.0 / 9.0) for Q in (Q_ci, Q_ce))
+    fourth = np.sum(q ** 4, axis=0) / n_rollers          # (q_e)^4 of each lamina, 4th-power mean
+    nine_halves = np.sum(q ** 4.5, axis=0) / n_rollers   # (q_e)^(9/2), 9/2-power mean
+    rot, sta = (fourth ** (9.0 / 8.0), nine_halves) if rotating == "inner" else (nine_halves, fourth ** (9.0 / 8.0))
+    s = float(np.sum(rot) * q_ci ** -4.5 + np.sum(sta) * q_ce ** -4.5)
+    return s ** (-8.0 / 9.0) if s > 0 else math.inf
+
+
+def roller_equivalent_load(Fr, Fa, alpha_deg: float, unit_rows: bool):
+    """ISO 281 Table 8 P = X Fr + Y Fa (N) of a roller bearing: cylindrical (a = 0) P = Fr; tapered
+    e = 1.5 tan a, single row X = 0.4, Y = 0.4 cot a above e (1, 0 below); a double row 0.67, 0.67 cot a
+    above e (1, 0.45 cot a below)."""
+    Fr, Fa = np.asarray(Fr, float), np.asarray(Fa, float)
+    if alpha_deg == 0.0:
+        return Fr
+    t = math.tan(math.radians(alpha_deg))
+    e = 1.5 * t
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.where(Fr > 0, Fa / np.maximum(Fr, 1e-300), np.inf)
+    if unit_rows:
+        return np.where(ratio <= e, Fr + 0.45 / t * Fa, 0.67 * Fr + 0.67 / t * Fa)
+    return np.where(ratio <= e, Fr, 0.4 * Fr + 0.4 / t * Fa)
+
+
+def roller_static_factors(alpha_deg: float, unit_rows: bool) -> tuple[float, float]:
+    """ISO 76 (X0, Y0) of roller bearings: a = 0: (1, 0); else single row (0.5, 0.22 cot a), double (1, 0.44 cot a)."""
+    if alpha_deg == 0.0:
+        return 1.0, 0.0
+    cot = 1.0 / math.tan(math.radians(alpha_deg))
+    return (1.0, 0.44 * cot) if unit_rows else (0.5, 0.22 * cot)
+
+
 # -- L10r from the load distribution ---------------------------------------------------------------
 
 def combine(lives, exponent: float = ROW_EXPONENT):
@@ -142,6 +248,27 @@ def combine(lives, exponent: float = ROW_EXPONENT):
     with np.errstate(divide="ignore"):
         s = np.sum(lives ** -exponent, axis=-1)
         return np.where(s > 0, s ** (-1.0 / exponent), np.inf)
+
+
+def combine_series(lives, slopes) -> float:
+    """The 90 % life of parts in series with their own Weibull slopes (balls 10/9, rollers 9/8): the L with
+    sum (L/L_i)^(e_i) = 1 (each part survives with exp(ln 0.9 (L/L_i)^e_i)); with one slope it is
+    :func:`combine`. Million revolutions; inf lives drop out."""
+    lives, slopes = np.asarray(lives, float), np.asarray(slopes, float)
+    keep = np.isfinite(lives)
+    lives, slopes = lives[keep], slopes[keep]
+    if lives.size == 0:
+        return math.inf
+    if np.all(slopes == slopes[0]):
+        return float(combine(lives, float(slopes[0])))
+    lo, hi = math.log(lives.min()) - 10.0, math.log(lives.min())  # the sum is >= 1 at the weakest part's life
+    for _ in range(200):  # bisection in log L: the sum rises monotonically with L
+        mid = 0.5 * (lo + hi)
+        if np.sum(np.exp(slopes * (mid - np.log(lives)))) > 1.0:
+            hi = mid
+        else:
+            lo = mid
+    return math.exp(0.5 * (lo + hi))
 
 
 def row_life(Q_ci, Q_ce, sum_cube, sum_ten_thirds, n_balls, rotating: str = "inner"):
@@ -248,6 +375,23 @@ class BearingRatings:
     double_row: bool
     pitch_diameter: float
     notes: tuple = field(default_factory=tuple)
+    element: str = "ball"
+    slices: np.ndarray | None = None        # roller rows: laminae per roller
+    slice_first: np.ndarray | None = None   # roller rows: where each row's slices start in the slice record
+
+    @property
+    def rollers(self) -> bool:
+        return self.element != "ball"
+
+    @property
+    def life_exponent(self) -> float:
+        """ISO 281's p: 3 for balls, 10/3 for rollers."""
+        return ROLLER_LIFE_EXPONENT if self.rollers else LIFE_EXPONENT
+
+    @property
+    def row_exponent(self) -> float:
+        """The Weibull slope that combines rows and bearings: 10/9 for balls, 9/8 for rollers."""
+        return ROLLER_ROW_EXPONENT if self.rollers else ROW_EXPONENT
 
 
 def ratings(bearing) -> BearingRatings:
@@ -257,9 +401,11 @@ def ratings(bearing) -> BearingRatings:
         raise ValueError("life needs the bearing's geometry ([bearing.geometry]: ball_diameter, pitch_diameter, "
                          "groove ratios), from which the load ratings and contact ratings follow; a bearing given "
                          "by model parameters (Kn, A0, R) alone has no rating")
+    if hasattr(g, "roller_diameter"):
+        return _roller_ratings(bearing, g)
     if bearing.roller_rows:
-        raise ValueError("life of roller rows is not implemented yet (ISO/TS 16281's sliced roller form); "
-                         "ball rows only")
+        raise ValueError("life needs one geometry for the whole bearing; ball and roller rows mixed in one "
+                         "bearing have none (rate them as separate bearings)")
     if g.contact_angle > 45.0:
         raise ValueError(f"bearing.geometry.contact_angle: life covers radial and angular contact ball rows "
                          f"(contact angle <= 45 deg); thrust ball rows ({g.contact_angle:g} deg) are not rated yet")
@@ -274,39 +420,71 @@ def ratings(bearing) -> BearingRatings:
                           bearing.arrangement in ("DB", "DF"), g.pitch_diameter)
 
 
+def _roller_ratings(bearing, g) -> BearingRatings:
+    unit = bearing.arrangement in ("single", "DB", "DF", "DT", "TDO", "TDI")
+    rows = 1 if bearing.arrangement == "single" or not unit else 2
+    C_row, C0_row = roller_row_ratings(g, rows)
+    Qci, Qce = roller_contact_ratings(g, C_row)
+    n = bearing.n_rows
+    C, C0 = (C_row * rows ** (7.0 / 9.0), C0_row * rows) if unit else (None, None)
+    per_row = [r.n_rollers * r.slices for _, r in bearing.roller_rows]
+    return BearingRatings(np.full(n, C_row), np.full(n, C0_row), math.nan, np.full(n, Qci), np.full(n, Qce),
+                          np.array([r.n_rollers for _, r in bearing.roller_rows], float), C, C0, g.contact_angle,
+                          bearing.arrangement in ("DB", "DF", "TDO", "TDI"), g.pitch_diameter, element=g.element,
+                          slices=np.array([r.slices for _, r in bearing.roller_rows], float),
+                          slice_first=np.concatenate([[0], np.cumsum(per_row)[:-1]]).astype(float))
+
+
 def life_table(r: BearingRatings, settings: LifeSettings) -> np.ndarray:
-    """What a map's sweep reads (sweep.case_life, sweep.static_safety): per row Q_ci^(-10/3),
-    Q_ce^(-10/3), Z, inner-ring rotating (1/0), and the bearing's ISO 76 X0, Y0 (nan: no unit rating)."""
-    t = np.empty((len(r.C_row), 6))
-    t[:, 0] = r.Q_ci ** (-10.0 / 3.0)
-    t[:, 1] = r.Q_ce ** (-10.0 / 3.0)
+    """What a map's sweep reads (sweep.case_life, sweep.static_safety), per row: the contact ratings'
+    powers (ball rows Q_ci^(-10/3), Q_ce^(-10/3); roller rows the laminae's q_ci^(-9/2), q_ce^(-9/2)), Z,
+    inner-ring rotating (1/0), the bearing's ISO 76 X0, Y0, and for roller rows the laminae per roller
+    and where the row's slices start in the kernel's slice record (0, 0 for ball rows)."""
+    t = np.zeros((len(r.C_row), 8))
+    if r.rollers:
+        ns = r.slices
+        t[:, 0] = (r.Q_ci * ns ** (-7.0 / 9.0)) ** -4.5
+        t[:, 1] = (r.Q_ce * ns ** (-7.0 / 9.0)) ** -4.5
+        t[:, 6], t[:, 7] = ns, r.slice_first
+        X0, Y0 = roller_static_factors(r.contact_angle, r.double_row)
+    else:
+        t[:, 0] = r.Q_ci ** (-10.0 / 3.0)
+        t[:, 1] = r.Q_ce ** (-10.0 / 3.0)
+        X0, Y0 = static_factors(r.contact_angle, r.double_row)
     t[:, 2] = r.n_balls
     t[:, 3] = 1.0 if settings.rotating == "inner" else 0.0
-    X0, Y0 = static_factors(r.contact_angle, r.double_row)
     t[:, 4], t[:, 5] = X0, Y0
     return t
 
 
-def a_iso(kappa: float, contamination: float, fatigue_limit: float, P) -> np.ndarray:
-    """ISO 281:2007 Eq. (15)-(17), ball bearings: a_ISO from kappa (clamped to [0.1, 4]), e_C and
-    C_u/P, capped at 50."""
+#: ISO 281:2007 Eq. (15)-(20): a_ISO = 0.1 (1 - (c - d/kappa^m)^0.83 (e_C C_u/P)^w)^v; (c, d below
+#: kappa 0.4, d above, w, v) for ball and radial roller bearings.
+_A_ISO = {"ball": (2.5671, 2.2649, 1.9987, 1.0 / 3.0, -9.3), "roller": (1.5859, 1.3993, 1.2348, 0.4, -9.185)}
+
+
+def a_iso(kappa: float, contamination: float, fatigue_limit: float, P, element: str = "ball") -> np.ndarray:
+    """ISO 281:2007 Eq. (15)-(20): a_ISO of ball (``element`` "ball") or radial roller bearings from kappa
+    (clamped to [0.1, 4]), e_C and C_u/P, capped at 50."""
+    c, d_low, d, w, v = _A_ISO["ball" if element == "ball" else "roller"]
     k = min(max(kappa, 0.1), 4.0)
     if k < 0.4:
-        inner = 2.5671 - 2.2649 / k ** 0.054
+        inner = c - d_low / k ** 0.054
     elif k < 1.0:
-        inner = 2.5671 - 1.9987 / k ** 0.19
+        inner = c - d / k ** 0.19
     else:
-        inner = 2.5671 - 1.9987 / k ** 0.071
+        inner = c - d / k ** 0.071
     x = contamination * fatigue_limit / np.maximum(np.asarray(P, float), 1e-300)
     with np.errstate(invalid="ignore", over="ignore"):
-        a = 0.1 * (1.0 - inner ** 0.83 * x ** (1.0 / 3.0)) ** -9.3
+        a = 0.1 * (1.0 - inner ** 0.83 * x ** w) ** v
     return np.where(np.isfinite(a) & (a > 0), np.minimum(a, 50.0), 50.0)
 
 
-def fatigue_load_limit(C0: float, pitch_diameter: float) -> float:
-    """ISO 281:2007 Annex B approximation of C_u for ball bearings: C0/27, times (100/Dpw)^0.5 above
-    Dpw = 100 mm (N)."""
-    return C0 / 27.0 * (1.0 if pitch_diameter <= 100.0 else (100.0 / pitch_diameter) ** 0.5)
+def fatigue_load_limit(C0: float, pitch_diameter: float, element: str = "ball") -> float:
+    """ISO 281:2007 Annex B approximation of C_u (N): balls C0/27, times (100/Dpw)^0.5 above Dpw = 100 mm;
+    rollers C0/8.2, times (100/Dpw)^0.3."""
+    if element == "ball":
+        return C0 / 27.0 * (1.0 if pitch_diameter <= 100.0 else (100.0 / pitch_diameter) ** 0.5)
+    return C0 / 8.2 * (1.0 if pitch_diameter <= 100.0 else (100.0 / pitch_diameter) ** 0.3)
 
 
 @dataclass(frozen=True)
@@ -332,6 +510,7 @@ class LifeResult:
     L_nmr: float | None
     speed: float | None
     notes: list
+    weibull_slope: float = ROW_EXPONENT
 
     def hours(self, life):
         return None if life is None or self.speed is None else life * 1e6 / (60.0 * self.speed)
@@ -339,8 +518,9 @@ class LifeResult:
     def to_dict(self) -> dict:
         out = {k: getattr(self, k) for k in ("C", "C0", "P", "P0", "L10", "L10r", "L10r_row", "C_row", "Q_ci", "Q_ce",
                                               "Q_ei", "Q_ee", "static_safety", "max_contact_pressure", "a_iso",
-                                              "L_nmr", "speed", "notes")}
+                                              "L_nmr", "speed", "notes", "weibull_slope")}
         out["L10_hours"], out["L10r_hours"] = self.hours(self.L10), self.hours(self.L10r)
+        out["pressure_limit"] = ROLLER_PRESSURE_LIMIT if self.weibull_slope == ROLLER_ROW_EXPONENT else PRESSURE_LIMIT
         out["units"] = {"C": "N", "P": "N", "L10": "million revolutions", "L10_hours": "h", "speed": "rpm",
                         "max_contact_pressure": "N/mm^2", "Q_ci": "N"}
         return out
@@ -369,10 +549,51 @@ def life(bearing, load, q, settings: LifeSettings | None = None) -> LifeResult:
     displacement ``q`` (mm, rad): ISO 281 L10 of the bearing as a unit (radial load hypot(Fx, Fy), axial
     |Fz|; moments are not in ISO 281's P) and ISO/TS 16281 L10r from the ball loads at q (moments,
     clearance, preload and every arrangement included)."""
-    from .contacts import ball_contacts
-
     settings = settings or LifeSettings()
     r = ratings(bearing)
+    if r.rollers:
+        L_rows, Q_ei, Q_ee, pressure = _roller_lives(bearing, q, r, settings)
+    else:
+        L_rows, Q_ei, Q_ee, pressure = _ball_lives(bearing, q, r, settings)
+    L10r = float(combine(L_rows, r.row_exponent))
+    Fr, Fa = math.hypot(load[0], load[1]), abs(load[2])
+    notes = []
+    P = P0 = L10 = S0 = None
+    if r.C is not None:
+        if r.rollers:
+            P = float(roller_equivalent_load(Fr, Fa, r.contact_angle, r.double_row))
+            X0, Y0 = roller_static_factors(r.contact_angle, r.double_row)
+            P0 = float(max(X0 * Fr + Y0 * Fa, Fr))
+        else:
+            P = float(equivalent_load(Fr, Fa, r.contact_angle, r.f0, r.C0, r.double_row))
+            P0 = float(static_equivalent_load(Fr, Fa, r.contact_angle, r.double_row))
+        L10 = (r.C / P) ** r.life_exponent if P > 0 else math.inf
+        S0 = r.C0 / P0 if P0 > 0 else math.inf
+        if load[3] or load[4]:
+            notes.append("ISO 281's P has no moment: L10 ignores Mx, My; L10r includes them")
+        if r.rollers and r.contact_angle == 0.0 and Fa > 0:
+            notes.append("ISO 281's P of a cylindrical roller bearing is Fr alone: L10 ignores Fz")
+    else:
+        notes.append(f"ISO 281 rates single rows and pairs as a unit, not a {bearing.arrangement} set: "
+                     "L10 and S0 are given per row only through L10r")
+    a = L_nmr = None
+    if settings.kappa is not None:
+        C0 = r.C0 if r.C0 is not None else float(r.C0_row.sum())
+        C = r.C if r.C is not None else float(r.C_row.sum())
+        Pref = C / L10r ** (1 / r.life_exponent) if math.isfinite(L10r) else 0.0
+        a = float(a_iso(settings.kappa, settings.contamination, fatigue_load_limit(C0, r.pitch_diameter, r.element),
+                        Pref, r.element))
+        L_nmr = a * L10r
+    return LifeResult(r.C, r.C0, P, P0, L10, L10r, L_rows.tolist(), r.C_row.tolist(), r.Q_ci.tolist(),
+                      r.Q_ce.tolist(), Q_ei.tolist(), Q_ee.tolist(), S0,
+                      None if pressure is None else float(pressure), a, L_nmr, settings.speed, notes,
+                      r.row_exponent)
+
+
+def _ball_lives(bearing, q, r: BearingRatings, settings: LifeSettings):
+    """Rows' L10r, equivalent contact loads Q_ei, Q_ee and the largest contact pressure, ball rows."""
+    from .contacts import ball_contacts
+
     contacts = ball_contacts(bearing, q)          # one kernel evaluation: loads and pressures
     Q = contacts.load
     rows = bearing.ball_table()[ROW].astype(int)
@@ -381,27 +602,22 @@ def life(bearing, load, q, settings: LifeSettings | None = None) -> LifeResult:
     L_rows = row_life(r.Q_ci, r.Q_ce, cube, ten, r.n_balls, settings.rotating)
     mean3, mean10 = (cube / r.n_balls) ** (1 / 3), (ten / r.n_balls) ** 0.3
     Q_ei, Q_ee = (mean3, mean10) if settings.rotating == "inner" else (mean10, mean3)
-    L10r = float(combine(L_rows))
-    Fr, Fa = math.hypot(load[0], load[1]), abs(load[2])
-    notes = []
-    P = P0 = L10 = S0 = None
-    if r.C is not None:
-        P = float(equivalent_load(Fr, Fa, r.contact_angle, r.f0, r.C0, r.double_row))
-        P0 = float(static_equivalent_load(Fr, Fa, r.contact_angle, r.double_row))
-        L10 = (r.C / P) ** LIFE_EXPONENT if P > 0 else math.inf
-        S0 = r.C0 / P0 if P0 > 0 else math.inf
-        if load[3] or load[4]:
-            notes.append("ISO 281's P has no moment: L10 ignores Mx, My; L10r includes them")
-    else:
-        notes.append(f"ISO 281 rates single rows and pairs (DB, DF, DT) as a unit, not a {bearing.arrangement} set: "
-                     "L10 and S0 are given per row only through L10r")
     pressure = contacts.max_pressure_per_row()
-    a = L_nmr = None
-    if settings.kappa is not None:
-        C0 = r.C0 if r.C0 is not None else float(r.C0_row.sum())
-        Pref = (r.C if r.C is not None else float(r.C_row.sum())) / L10r ** (1 / 3) if math.isfinite(L10r) else 0.0
-        a = float(a_iso(settings.kappa, settings.contamination, fatigue_load_limit(C0, r.pitch_diameter), Pref))
-        L_nmr = a * L10r
-    return LifeResult(r.C, r.C0, P, P0, L10, L10r, L_rows.tolist(), r.C_row.tolist(), r.Q_ci.tolist(),
-                      r.Q_ce.tolist(), Q_ei.tolist(), Q_ee.tolist(), S0,
-                      None if pressure is None else float(pressure.max()), a, L_nmr, settings.speed, notes)
+    return L_rows, Q_ei, Q_ee, None if pressure is None else pressure.max()
+
+
+def _roller_lives(bearing, q, r: BearingRatings, settings: LifeSettings):
+    """Rows' L10r from the slice loads (ISO/TS 16281 sliced), the whole rollers' equivalent loads (the
+    4th- and 9/2-power means of the roller loads) and the largest line-contact pressure."""
+    from .contacts import roller_contacts, slice_loads
+
+    _, per_row = slice_loads(bearing, q)
+    L_rows = np.array([roller_row_life(loads, Qci, Qce, settings.rotating)
+                       for loads, Qci, Qce in zip(per_row, r.Q_ci, r.Q_ce)])
+    totals = [loads.sum(axis=1) for loads in per_row]
+    mean4 = np.array([np.mean(t ** 4) ** 0.25 for t in totals])
+    mean45 = np.array([np.mean(t ** 4.5) ** (1 / 4.5) for t in totals])
+    Q_ei, Q_ee = (mean4, mean45) if settings.rotating == "inner" else (mean45, mean4)
+    contacts = roller_contacts(bearing, q)
+    pressure = max(float(contacts.inner_max_pressure.max()), float(contacts.outer_max_pressure.max()))
+    return L_rows, Q_ei, Q_ee, pressure

@@ -122,7 +122,7 @@ def compute_block(bearing: Bearing, given_load: bool, line_length: int, settings
     ball_row = bearing.element_rows
     segments = segment_starts(first, first + inputs.shape[0], line_length)
     if life is None:
-        table, C0 = np.empty((0, 6)), 0.0
+        table, C0 = np.empty((0, 8)), 0.0
         L10r, L10r_row, safety = np.empty(1), np.empty((1, bearing.n_rows)), np.empty(1)
     else:
         table, C0 = life

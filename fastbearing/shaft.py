@@ -155,9 +155,11 @@ def solve_shaft(shaft: Shaft, method: str = "newton") -> ShaftResult:
 
 
 def shaft_life(shaft: Shaft, result: ShaftResult, settings=None) -> dict:
-    """Each bearing's rating life at its own reaction and the system's (weakest link: (sum L^(-10/9))^(-0.9)
-    of the bearings' L10r), million revolutions; needs [bearing.geometry] in every bearing."""
-    from .life import LifeSettings, combine, life
+    """Each bearing's rating life at its own reaction and the system's (weakest link: the L with
+    sum (L/L_i)^(e_i) = 1 over the bearings' L10r, e_i = 10/9 for ball and 9/8 for roller bearings, i.e.
+    (sum L^(-10/9))^(-0.9) for ball bearings alone), million revolutions; needs [bearing.geometry] in
+    every bearing."""
+    from .life import LifeSettings, combine_series, life
 
     settings = settings or LifeSettings()
     lives = []
@@ -165,7 +167,7 @@ def shaft_life(shaft: Shaft, result: ShaftResult, settings=None) -> dict:
         if getattr(mb.bearing, "geometry", None) is None:
             raise ValueError(f"shaft.bearings[{i}]: life needs the bearing's geometry ([bearing.geometry])")
         lives.append(life(mb.bearing, state.reaction, state.q, settings).to_dict())
-    system = float(combine([b["L10r"] for b in lives]))
+    system = combine_series([b["L10r"] for b in lives], [b["weibull_slope"] for b in lives])
     return {"bearings": lives, "system_L10r": system,
             "system_L10r_hours": None if settings.speed is None else system * 1e6 / (60.0 * settings.speed)}
 
