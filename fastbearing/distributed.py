@@ -39,6 +39,10 @@ def _worker_threads(client) -> int:
     return max(1, sum(w.get("nthreads", 1) for w in info.get("workers", {}).values()))
 
 
+#: How often a block the scheduler cancelled (a lost worker) is sent again before the run fails.
+MAX_RESUBMITS = 3
+
+
 def run_blocks(client, job, pending, writer, interrupt, max_in_flight=None) -> dict:
     """Compute the ``pending`` blocks of ``job`` on the cluster and hand each result to ``writer``.
 
@@ -46,6 +50,8 @@ def run_blocks(client, job, pending, writer, interrupt, max_in_flight=None) -> d
     default 2 per worker thread. Returns provenance attributes (engine,
     workers, scheduler).
     """
+    from concurrent.futures import CancelledError
+
     from distributed import as_completed
 
     threads = _worker_threads(client)
@@ -54,14 +60,15 @@ def run_blocks(client, job, pending, writer, interrupt, max_in_flight=None) -> d
     variables = list(job.variables)
     queue = iter(pending)
     futures = {}
+    retries = {}
 
-    def submit_next():
-        block = next(queue, None)
+    def submit_next(block=None):
+        block = next(queue, None) if block is None else block
         if block is None:
             return None
         inputs = job.cases.inputs(block.start, block.stop)
         future = client.submit(_worker_block, compute, variables, job.sizes, inputs, block.start, pure=False,
-                               key=f"fastbearing-block-{block.index}-{os.getpid()}")
+                               key=f"fastbearing-block-{block.index}-{os.getpid()}-{retries.get(block.index, 0)}")
         futures[future] = block
         return future
 
@@ -74,7 +81,17 @@ def run_blocks(client, job, pending, writer, interrupt, max_in_flight=None) -> d
             running.add(future)
         for future in running:
             block = futures.pop(future)
-            res = future.result()
+            try:
+                res = future.result()
+            except CancelledError:
+                # a worker killed at the wrong moment can leave the scheduler forgetting the block
+                # ("already forgotten") rather than recomputing it: send it again, a few times at most
+                retries[block.index] = retries.get(block.index, 0) + 1
+                if retries[block.index] > MAX_RESUBMITS:
+                    raise
+                compute = client.scatter(job.compute, broadcast=True)  # its copy may have gone too
+                running.add(submit_next(block))
+                continue
             future.release()
             writer.submit(block, res, writer.buffer())
             if interrupt.requested:

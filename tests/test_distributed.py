@@ -125,3 +125,22 @@ def test_cli_dask_flag(tmp_path):
 
     bad = cli_run("loadmap", cfg, "--dask", "local:0", "--overwrite")
     assert bad.returncode == 2 and "worker count N >= 1" in bad.stderr
+
+
+def test_a_block_the_scheduler_cancels_is_sent_again(client, local_map, tmp_path, monkeypatch):
+    """A lost worker can leave a block's future cancelled ("already forgotten") instead of recomputed: the
+    runner sends that block again under a new key, and the file is still identical to a local run."""
+    submit = client.submit
+    cancelled = []
+
+    def submit_and_cancel_the_first(*args, **kwargs):
+        future = submit(*args, **kwargs)
+        if not cancelled:
+            future.cancel()
+            cancelled.append(kwargs["key"])
+        return future
+
+    monkeypatch.setattr(client, "submit", submit_and_cancel_the_first)
+    out = fb.loadmap(CONFIG, tmp_path / "cancelled.h5", progress=False, client=client, max_in_flight=3)
+    assert len(cancelled) == 1
+    assert_identical(out, local_map)
