@@ -129,7 +129,11 @@ def roller_contacts(bearing: Bearing, q) -> RollerContacts:
 
     bearing = _check_bearing(bearing)
     q = _as_vector(q, "q", "dx, dy, dz in mm; bx, by in rad")
-    totals, per_row = slice_loads(bearing, q)
+    return rollers_from_slices(bearing, *slice_loads(bearing, q))
+
+
+def rollers_from_slices(bearing: Bearing, totals, per_row) -> RollerContacts:
+    """:func:`roller_contacts` from the output of :func:`slice_loads` (no further kernel evaluation)."""
     rows, numbers, azimuth, peak, where, widths = [], [], [], [], [], []
     g = bearing.geometry if hasattr(bearing.geometry, "roller_diameter") else None
     for (i, r), loads in zip(bearing.roller_rows, per_row):

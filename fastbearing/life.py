@@ -308,11 +308,12 @@ def equivalent_load(Fr, Fa, alpha_deg: float, f0: float, C0r: float, unit_rows: 
     return np.where(ratio <= e, Fr, X * Fr + Y * Fa)
 
 
-def static_equivalent_load(Fr, Fa, alpha_deg: float, unit_rows: bool):
+def static_equivalent_load(Fr, Fa, alpha_deg: float, unit_rows: bool, rollers: bool = False):
     """ISO 76 P_0 = max(X_0 Fr + Y_0 Fa, Fr) (N); deep groove X_0 = 0.6, Y_0 = 0.5; angular contact
-    X_0 = 0.5 and Y_0 by angle; a double row X_0 = 1 and twice Y_0."""
+    X_0 = 0.5 and Y_0 by angle; a double row X_0 = 1 and twice Y_0; roller rows
+    :func:`roller_static_factors`."""
     Fr, Fa = np.asarray(Fr, float), np.asarray(Fa, float)
-    X0, Y0 = static_factors(alpha_deg, unit_rows)
+    X0, Y0 = roller_static_factors(alpha_deg, unit_rows) if rollers else static_factors(alpha_deg, unit_rows)
     return np.maximum(X0 * Fr + Y0 * Fa, Fr)
 
 
@@ -562,11 +563,9 @@ def life(bearing, load, q, settings: LifeSettings | None = None) -> LifeResult:
     if r.C is not None:
         if r.rollers:
             P = float(roller_equivalent_load(Fr, Fa, r.contact_angle, r.double_row))
-            X0, Y0 = roller_static_factors(r.contact_angle, r.double_row)
-            P0 = float(max(X0 * Fr + Y0 * Fa, Fr))
         else:
             P = float(equivalent_load(Fr, Fa, r.contact_angle, r.f0, r.C0, r.double_row))
-            P0 = float(static_equivalent_load(Fr, Fa, r.contact_angle, r.double_row))
+        P0 = float(static_equivalent_load(Fr, Fa, r.contact_angle, r.double_row, r.rollers))
         L10 = (r.C / P) ** r.life_exponent if P > 0 else math.inf
         S0 = r.C0 / P0 if P0 > 0 else math.inf
         if load[3] or load[4]:
@@ -609,15 +608,15 @@ def _ball_lives(bearing, q, r: BearingRatings, settings: LifeSettings):
 def _roller_lives(bearing, q, r: BearingRatings, settings: LifeSettings):
     """Rows' L10r from the slice loads (ISO/TS 16281 sliced), the whole rollers' equivalent loads (the
     4th- and 9/2-power means of the roller loads) and the largest line-contact pressure."""
-    from .contacts import roller_contacts, slice_loads
+    from .contacts import rollers_from_slices, slice_loads
 
-    _, per_row = slice_loads(bearing, q)
+    roller_loads, per_row = slice_loads(bearing, q)  # one kernel evaluation: slice loads and pressures
     L_rows = np.array([roller_row_life(loads, Qci, Qce, settings.rotating)
                        for loads, Qci, Qce in zip(per_row, r.Q_ci, r.Q_ce)])
     totals = [loads.sum(axis=1) for loads in per_row]
     mean4 = np.array([np.mean(t ** 4) ** 0.25 for t in totals])
     mean45 = np.array([np.mean(t ** 4.5) ** (1 / 4.5) for t in totals])
     Q_ei, Q_ee = (mean4, mean45) if settings.rotating == "inner" else (mean45, mean4)
-    contacts = roller_contacts(bearing, q)
+    contacts = rollers_from_slices(bearing, roller_loads, per_row)
     pressure = max(float(contacts.inner_max_pressure.max()), float(contacts.outer_max_pressure.max()))
     return L_rows, Q_ei, Q_ee, pressure

@@ -237,7 +237,6 @@ def test_roller_bearing_life_follows_the_10_3_exponent_and_iso_76():
     a, c = fb.rating_life(b, [3000.0, 0, 0, 0, 0]), fb.rating_life(b, [6000.0, 0, 0, 0, 0])
     assert a.L10 / c.L10 == pytest.approx(2 ** (10 / 3), rel=1e-12)          # ISO 281: p = 10/3
     assert a.P == 3000.0 and a.static_safety == pytest.approx(27000.0 / 3000.0)   # X0 = 1 for a = 0
-    assert 1.5 < a.L10r / a.L10 < 6.0  # zero clearance: a narrower load zone than ISO 281's, same order
     # tapered pair: ISO 76 X0 = 1, Y0 = 0.44 cot a; ISO 281 Table 8 e = 1.5 tan a
     t = fb.load_bearing(BEARINGS / "30206-TDO.toml")
     r = fb.rating_life(t, [8000.0, 0, 2000.0, 0, 0])
