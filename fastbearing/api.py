@@ -14,7 +14,7 @@ import numba
 import numpy as np
 
 from . import config, status as st, validate
-from .bearing import Bearing
+from .bearing import Bearing, check_speed, check_speed_model
 from .dofs import DISPLACEMENT_NAMES, DISPLACEMENT_UNITS, LOAD_NAMES, LOAD_UNITS  # noqa: F401 (public names)
 from .kernel import ball_loop
 from .solver import BROYDEN, NEWTON, WORK_ROWS, SolverSettings, solve_case
@@ -132,7 +132,7 @@ def solver_settings(bearing: Bearing, method: str = "newton", rtol=None, max_ite
     )
 
 
-def stiffness(bearing: Bearing, q) -> tuple[np.ndarray, np.ndarray]:
+def stiffness(bearing: Bearing, q, speed=0.0) -> tuple[np.ndarray, np.ndarray]:
     """Load f and stiffness Kb at a given displacement (direct substitution).
 
     Parameters
@@ -140,13 +140,15 @@ def stiffness(bearing: Bearing, q) -> tuple[np.ndarray, np.ndarray]:
     bearing : Bearing
     q : sequence of 5 floats
         (dx, dy, dz, bx, by) in mm and rad at the bearing centre.
+    speed : float
+        Shaft speed in rpm, >= 0 (see :func:`solve`).
 
     Returns
     -------
     f : ndarray (5,)
         (Fx, Fy, Fz, Mx, My) in N and N*mm.
     K : ndarray (5, 5)
-        Kb in N/mm, N*mm/rad, N/rad; symmetric.
+        Kb in N/mm, N*mm/rad, N/rad; symmetric at speed 0.
 
     Raises
     ------
@@ -155,11 +157,38 @@ def stiffness(bearing: Bearing, q) -> tuple[np.ndarray, np.ndarray]:
     """
     bearing = _check_bearing(bearing)
     q = _as_vector(q, "q", "dx, dy, dz in mm; bx, by in rad")
+    balls = speed_ball_set(bearing, speed)
     f = np.empty(5)
     K = np.empty((5, 5))
-    ball_loop(q, bearing.ball_set(), f, K, None, None)
+    ball_loop(q, balls, f, K, None, None)
     _check_finite_result(f, K, "q")
     return f, K
+
+
+def speed_ball_set(bearing: Bearing, speed) -> tuple:
+    """The kernel's ball set at shaft ``speed`` (rpm, checked: finite, >= 0): quasi-static at 0, the
+    high-speed balls above (which need the bearing's geometry; ValueError naming ``speed`` otherwise)."""
+    speed = check_speed(speed)
+    if speed == 0.0:
+        return bearing.ball_set()
+    check_speed_model(bearing)
+    return bearing.ball_set(speed=speed)
+
+
+def speed_cases(bearing: Bearing, speed, n: int) -> tuple[tuple, np.ndarray]:
+    """(ball set, per-case omega in rad/s) for n cases at ``speed`` (rpm: one number, or N numbers):
+    the quasi-static set and no speeds when every speed is 0."""
+    values = np.asarray(speed, dtype=object)
+    if values.ndim == 0:
+        speeds = np.full(n, check_speed(speed))
+    elif values.ndim == 1 and values.shape[0] == n:
+        speeds = np.array([check_speed(v, f"speed[{i}]") for i, v in enumerate(values)], dtype=float)
+    else:
+        raise validate.FieldError("speed", f"must be one number or one per case ({n}), rpm >= 0", show_value=False)
+    if not speeds.any():
+        return bearing.ball_set(), np.zeros(0)
+    check_speed_model(bearing)
+    return bearing.ball_set(speed=0.0), speeds * (np.pi / 30.0)
 
 
 def _check_finite_result(f, K, name: str) -> None:
@@ -170,8 +199,9 @@ def _check_finite_result(f, K, name: str) -> None:
                          "against the groove-centre distance A0, mm)")
 
 
-def ball_loads(bearing: Bearing, q) -> tuple[np.ndarray, np.ndarray]:
-    """Per-ball load Q (N) and contact angle alpha (rad, signed on the row's contact direction) at q.
+def ball_loads(bearing: Bearing, q, speed=0.0) -> tuple[np.ndarray, np.ndarray]:
+    """Per-ball load Q (N) and contact angle alpha (rad, signed on the row's contact direction) at q; at
+    ``speed`` (rpm) > 0 the inner contact's load and angle.
 
     Balls are ordered row by row, each row from its first ball.
     """
@@ -179,11 +209,12 @@ def ball_loads(bearing: Bearing, q) -> tuple[np.ndarray, np.ndarray]:
     q = _as_vector(q, "q", "dx, dy, dz in mm; bx, by in rad")
     Q = np.empty(bearing.n_elements)
     alpha = np.empty(bearing.n_elements)
-    ball_loop(q, bearing.ball_set(), np.empty(5), None, Q, alpha)
+    ball_loop(q, speed_ball_set(bearing, speed), np.empty(5), None, Q, alpha)
     return Q, alpha
 
 
-def solve(bearing: Bearing, f, q0=None, method: str = "newton", rtol=None, max_iter=None) -> SolveResult:
+def solve(bearing: Bearing, f, q0=None, method: str = "newton", rtol=None, max_iter=None,
+          speed=0.0) -> SolveResult:
     """Displacement q and stiffness Kb under a given load f (paper Eq. 16).
 
     Parameters
@@ -200,6 +231,11 @@ def solve(bearing: Bearing, f, q0=None, method: str = "newton", rtol=None, max_i
         Relative residual tolerance (default 1e-10).
     max_iter : int, optional
         Iterations per attempt.
+    speed : float
+        Shaft speed in rpm, >= 0 (default 0: the quasi-static model). Above 0 every ball is held in
+        equilibrium under its centrifugal force and gyroscopic moment (fastbearing.high_speed; the
+        bearing needs its geometry), and Kb is the exact derivative with the balls re-settled: not
+        symmetric in general.
 
     Returns
     -------
@@ -225,12 +261,13 @@ def solve(bearing: Bearing, f, q0=None, method: str = "newton", rtol=None, max_i
     bearing = _check_bearing(bearing)
     f_target = _as_vector(f, "f", "Fx, Fy, Fz in N; Mx, My in N*mm")
     opts = solver_settings(bearing, method, rtol, max_iter)
+    balls = speed_ball_set(bearing, speed)
     warm = q0 is not None
     q = _as_vector(q0, "q0", "mm, rad").copy() if warm else np.zeros(5)
     f_out = np.empty(5)
     K = np.empty((5, 5))
     work = np.empty((WORK_ROWS, 5))
-    out = solve_case(f_target, q, f_out, K, bearing.ball_set(), opts, warm, work, None, None)
+    out = solve_case(f_target, q, f_out, K, balls, opts, warm, work, None, None)
     return SolveResult(q, f_out, K, int(out.status), int(out.iterations), float(out.residual), int(out.evaluations))
 
 
@@ -275,7 +312,7 @@ class SolveManyResult:
 
 
 def solve_many(bearing: Bearing, f, q0=None, method: str = "newton", rtol=None, max_iter=None,
-               threads=None) -> SolveManyResult:
+               threads=None, speed=0.0) -> SolveManyResult:
     """Solve many independent load cases in parallel.
 
     Parameters
@@ -286,6 +323,8 @@ def solve_many(bearing: Bearing, f, q0=None, method: str = "newton", rtol=None, 
         Warm starts in mm and rad.
     threads : int, optional
         Numba threads for this call (default: NUMBA_NUM_THREADS).
+    speed : float or array_like (N,)
+        Shaft speed in rpm, one for all cases or one per case (default 0), as in :func:`solve`.
 
     ``bearing``, ``method``, ``rtol`` and ``max_iter`` are as in :func:`solve`.
     Results do not depend on the thread count.
@@ -306,6 +345,7 @@ def solve_many(bearing: Bearing, f, q0=None, method: str = "newton", rtol=None, 
     f_targets = as_cases(f, "f", "Fx, Fy, Fz in N; Mx, My in N*mm")
     n = f_targets.shape[0]
     opts = solver_settings(bearing, method, rtol, max_iter)
+    balls, speeds = speed_cases(bearing, speed, n)
     warm = q0 is not None
     if warm:
         q = as_cases(q0, "q0", "mm, rad")
@@ -317,19 +357,21 @@ def solve_many(bearing: Bearing, f, q0=None, method: str = "newton", rtol=None, 
                           np.empty(n), np.empty(n, np.int32))
     with num_threads(threads):
         solve_sweep(f_targets, out.q, out.f, out.K, out.status, out.iterations, out.residual, out.evaluations,
-                    bearing.ball_set(), opts, warm, config.SWEEP_BLOCK)
+                    balls, speeds, opts, warm, config.SWEEP_BLOCK)
     return out
 
 
-def stiffness_many(bearing: Bearing, q, threads=None) -> tuple[np.ndarray, np.ndarray]:
-    """f (N, 5) and Kb (N, 5, 5) at many displacements q (N, 5) in mm and rad, in parallel."""
+def stiffness_many(bearing: Bearing, q, threads=None, speed=0.0) -> tuple[np.ndarray, np.ndarray]:
+    """f (N, 5) and Kb (N, 5, 5) at many displacements q (N, 5) in mm and rad, in parallel, at shaft
+    ``speed`` (rpm, one or one per case)."""
     bearing = _check_bearing(bearing)
     q = as_cases(q, "q", "dx, dy, dz in mm; bx, by in rad")
     n = q.shape[0]
+    balls, speeds = speed_cases(bearing, speed, n)
     f = np.empty((n, 5))
     K = np.empty((n, 5, 5))
     with num_threads(threads):
-        stiffness_sweep(q, f, K, bearing.ball_set(), config.SWEEP_BLOCK)
+        stiffness_sweep(q, f, K, balls, speeds, config.SWEEP_BLOCK)
     _check_finite_result(f, K, "q")
     return f, K
 

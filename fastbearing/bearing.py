@@ -45,6 +45,36 @@ PRELOAD_DEFLECTION_LIMIT = 0.1
 VALIDITY_DEFLECTION = 0.15
 
 
+#: Largest shaft speed a user may ask for, rpm (a sanity bound: 2 million rpm is beyond any ball bearing).
+MAX_SPEED = 2.0e6
+
+
+def rpm_to_rad_s(speed: float) -> float:
+    """Shaft speed in rad/s from rpm."""
+    return float(speed) * math.pi / 30.0
+
+
+def check_speed(speed, name: str = "speed") -> float:
+    """A shaft speed in rpm: finite, in [0, MAX_SPEED]; ValueError naming ``name`` otherwise."""
+    return validate.number(speed, name, low=0, high=MAX_SPEED, units="rpm")
+
+
+def check_speed_model(bearing) -> None:
+    """ValueError unless ``bearing`` can run at speed: ball rows from catalogue geometry (the high-speed
+    model needs the ball diameter, pitch diameter, groove ratios and density), Hertzian (n = 1.5)."""
+    if bearing.roller_rows:
+        raise validate.FieldError("speed", "above 0 rpm needs ball rows: the high-speed model (centrifugal force, "
+                                  "gyroscopic moment) is not implemented for roller rows; give speed = 0",
+                                  show_value=False)
+    if bearing.geometry is None or not hasattr(bearing.geometry, "speed_columns"):
+        raise validate.FieldError("speed", f"above 0 rpm needs the bearing's geometry: {bearing.name or 'this bearing'} "
+                                  "is given by model parameters only; define it with [bearing.geometry] "
+                                  "(ball_diameter, pitch_diameter, inner_groove_ratio, outer_groove_ratio, ...) so "
+                                  "the balls' mass and both race contacts are known", show_value=False)
+    if any(r.exponent != 1.5 for _, r in bearing.ball_rows):
+        raise validate.FieldError("speed", "above 0 rpm needs Hertzian balls (exponent 1.5)", show_value=False)
+
+
 def free_contact_angle(groove_center_distance: float, contact_angle: float, radial_clearance: float) -> float:
     """a_f in rad: cos(a_f) = cos(a0) - rL/A0 for a row with radial play rL > 0 (a0 in rad; A0, rL in mm),
     a0 when rL <= 0. For a deep-groove row (a0 = 0): cos(a_f) = 1 - Pd/(2 A0)."""
@@ -430,10 +460,29 @@ class Bearing:
             return self._ball_table_at_rest
         return self._build_ball_table(cage_angle)
 
-    def ball_set(self, cage_angle: float = 0.0) -> tuple:
+    def ball_set(self, cage_angle: float = 0.0, speed: float | None = None) -> tuple:
         """What the kernel reads: (ball table, per-ball exponents or None when every n is 1.5, None:
-        the exact contact law)."""
-        return (self.ball_table(cage_angle), self.ball_exponents, None, self.slice_table(cage_angle))
+        the exact contact law, slice table, speed table, omega). ``speed`` (rpm) None: no speed table,
+        the quasi-static model; a number (0 included): the high-speed constants and omega in rad/s
+        (fastbearing.high_speed; at 0 rpm the kernel takes the quasi-static loop)."""
+        if speed is None:
+            return (self.ball_table(cage_angle), self.ball_exponents, None, self.slice_table(cage_angle), None, 0.0)
+        return (self.ball_table(cage_angle), self.ball_exponents, None, self.slice_table(cage_angle),
+                self.speed_table, rpm_to_rad_s(speed))
+
+    @cached_property
+    def speed_table(self) -> np.ndarray:
+        """Per-ball constants of the high-speed model, (high_speed.N_SPEED_COLUMNS, n_balls), from the
+        bearing's geometry (Geometry.speed_columns); ValueError when the bearing has none."""
+        from .high_speed import N_SPEED_COLUMNS
+
+        check_speed_model(self)
+        table = np.empty((N_SPEED_COLUMNS, self.n_balls))
+        k = 0
+        for _, r in self.ball_rows:
+            table[:, k:k + r.n_balls] = np.asarray(self.geometry.speed_columns(r.contact_angle))[:, None]
+            k += r.n_balls
+        return table
 
     def slice_table(self, cage_angle: float = 0.0) -> np.ndarray:
         """The kernel's per-slice table of the roller rows (rollers.slice_table; no columns without rollers)."""

@@ -13,8 +13,9 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
-from .api import ball_loads
-from .bearing import COS_PSI, EXPONENT, KN, SIN_PSI, Bearing
+from . import high_speed as hs
+from .api import _as_vector, ball_loads, speed_ball_set
+from .bearing import COS_PSI, EXPONENT, KN, SIN_PSI, Bearing, check_speed
 from .geometry import HertzContact
 
 
@@ -42,6 +43,15 @@ class BallContacts:
         Maximum Hertz pressure at the inner / outer race, N/mm^2 (MPa).
     inner_semi_major, inner_semi_minor, outer_semi_major, outer_semi_minor : ndarray or None
         Contact-ellipse semi-axes a (across the groove) and b (rolling direction), mm.
+    inner_contact_angle, outer_contact_angle, inner_load, outer_load : ndarray or None
+        At shaft speed (else None): each race's contact angle (rad, signed on the row's direction) and
+        load (N); ``load`` and ``contact_angle`` are then the inner contact's, ``deflection`` the sum of
+        both contacts'.
+    centrifugal_force, gyroscopic_moment, orbital_speed : ndarray or None
+        At speed: F_c (N), M_g (N*mm; negative with Harris's sign of the ball spin) and the ball's
+        orbital (cage) speed omega_m (rad/s).
+    equilibrium_residual : ndarray or None
+        At speed: the ball's equilibrium residual relative to its largest force.
     """
 
     row: np.ndarray
@@ -56,6 +66,14 @@ class BallContacts:
     outer_max_pressure: np.ndarray | None = None
     outer_semi_major: np.ndarray | None = None
     outer_semi_minor: np.ndarray | None = None
+    inner_contact_angle: np.ndarray | None = None
+    outer_contact_angle: np.ndarray | None = None
+    inner_load: np.ndarray | None = None
+    outer_load: np.ndarray | None = None
+    centrifugal_force: np.ndarray | None = None
+    gyroscopic_moment: np.ndarray | None = None
+    orbital_speed: np.ndarray | None = None
+    equilibrium_residual: np.ndarray | None = None
 
     @property
     def has_contacts(self) -> bool:
@@ -156,7 +174,7 @@ def rollers_from_slices(bearing: Bearing, totals, per_row) -> RollerContacts:
     return RollerContacts(**out)
 
 
-def ball_contacts(bearing: Bearing, q) -> BallContacts:
+def ball_contacts(bearing: Bearing, q, speed=0.0) -> BallContacts:
     """Per-ball load, deflection, contact angle and (with geometry) Hertz contact at displacement q.
 
     Ball loads and loaded contact angles come from :func:`fastbearing.ball_loads`
@@ -171,11 +189,17 @@ def ball_contacts(bearing: Bearing, q) -> BallContacts:
     bearing : Bearing
     q : sequence of 5 floats
         (dx, dy, dz, bx, by) in mm and rad, e.g. ``solve(bearing, f).q``.
+    speed : float
+        Shaft speed in rpm (>= 0); above 0 each ball's two contacts, centrifugal force and gyroscopic
+        moment are reported too (fastbearing.high_speed), and each race's Hertz contact uses its own
+        load and angle.
 
     Returns
     -------
     BallContacts
     """
+    if check_speed(speed) > 0.0:
+        return _spinning_contacts(bearing, q, speed)
     Q, alpha = ball_loads(bearing, q)
     table = bearing.ball_table()                 # what the kernel read: one column per ball
     row = bearing.element_rows
@@ -204,3 +228,39 @@ def ball_contacts(bearing: Bearing, q) -> BallContacts:
             out[f"{side}_semi_major"][i] = major
             out[f"{side}_semi_minor"][i] = minor
     return BallContacts(**base, **out)
+
+
+def _spinning_contacts(bearing: Bearing, q, speed) -> BallContacts:
+    """:func:`ball_contacts` at speed: every ball's settled state from the one high-speed element."""
+    q = _as_vector(q, "q", "dx, dy, dz in mm; bx, by in rad")
+    table, _, _, _, speed_table, omega = speed_ball_set(bearing, speed)
+    n = bearing.n_balls
+    states = np.empty((n, hs.N_STATE))
+    Q = np.empty(n)
+    alpha = np.empty(n)
+    hs.spinning_balls(q, table, speed_table, omega, 0.0, np.empty(5), None, Q, alpha, states)
+    Qo = states[:, hs.STATE_OUTER_LOAD]
+    geometry = bearing.geometry
+    # each contact's deflection from its own load and Hertz constant
+    delta = ((Q / speed_table[hs.K_INNER]) ** (2.0 / 3.0) + (Qo / speed_table[hs.K_OUTER]) ** (2.0 / 3.0))
+    out = {k: np.zeros(n) for k in ("inner_max_pressure", "inner_semi_major", "inner_semi_minor",
+                                     "outer_max_pressure", "outer_semi_major", "outer_semi_minor")}
+    for side, loads, angles in (("inner", Q, states[:, hs.STATE_INNER_ANGLE]),
+                                ("outer", Qo, states[:, hs.STATE_OUTER_ANGLE])):
+        for i in np.flatnonzero(loads > 0):
+            contact = geometry.contacts(abs(float(angles[i])))[0 if side == "inner" else 1]
+            major, minor = contact.semi_axes(loads[i])
+            out[f"{side}_max_pressure"][i] = contact.max_pressure(loads[i])
+            out[f"{side}_semi_major"][i] = major
+            out[f"{side}_semi_minor"][i] = minor
+    azimuth = np.mod(np.arctan2(table[SIN_PSI], table[COS_PSI]), 2.0 * math.pi)
+    ball = np.concatenate([np.arange(r.n_balls) for _, r in bearing.ball_rows])
+    return BallContacts(row=bearing.element_rows, ball=ball, azimuth=azimuth, deflection=delta, load=Q,
+                        contact_angle=alpha, **out,
+                        inner_contact_angle=states[:, hs.STATE_INNER_ANGLE].copy(),
+                        outer_contact_angle=states[:, hs.STATE_OUTER_ANGLE].copy(),
+                        inner_load=Q.copy(), outer_load=Qo.copy(),
+                        centrifugal_force=states[:, hs.STATE_CENTRIFUGAL].copy(),
+                        gyroscopic_moment=states[:, hs.STATE_GYROSCOPIC].copy(),
+                        orbital_speed=states[:, hs.STATE_ORBITAL_SPEED].copy(),
+                        equilibrium_residual=states[:, hs.STATE_RESIDUAL].copy())

@@ -54,6 +54,9 @@ from . import validate
 from .bearing import PRELOAD_DEFLECTION_LIMIT, Bearing, _check_finite, free_contact_angle
 
 ELLIPTICITY_METHODS = ("exact", "hamrock-brewe")
+#: Race-control hypotheses of the high-speed model, and the ring that may turn.
+RACE_CONTROLS = ("outer", "inner", "none")
+ROTATING_RINGS = ("inner", "outer")
 #: Default validity limit of the Hertz contact pressure, N/mm^2: the usual static limit of ball bearings
 #: (ISO 76 bases C0 on 4200 N/mm^2 at the most loaded contact of radial ball bearings).
 CONTACT_PRESSURE_LIMIT = 4200.0
@@ -75,24 +78,30 @@ class Material:
         E in N/mm^2 (MPa), > 0.
     poisson_ratio : float
         nu, in [0, 0.5).
+    density : float
+        rho in kg/m^3, > 0 (the balls' mass at speed: centrifugal force, gyroscopic moment).
     """
 
     name: str
     youngs_modulus: float
     poisson_ratio: float
+    density: float = 7850.0
 
     def __post_init__(self):
         object.__setattr__(self, "youngs_modulus", validate.number(self.youngs_modulus, "youngs_modulus", low=0,
                                                                    low_open=True, units="N/mm^2"))
         object.__setattr__(self, "poisson_ratio", validate.number(self.poisson_ratio, "poisson_ratio", low=0, high=0.5,
                                                                   high_open=True))
+        object.__setattr__(self, "density", validate.number(self.density, "density", low=0, low_open=True,
+                                                            units="kg/m^3"))
 
 
-#: Through-hardened bearing steel (AISI 52100 / 100Cr6): E = 208 000 N/mm^2, nu = 0.3
+#: Through-hardened bearing steel (AISI 52100 / 100Cr6): E = 208 000 N/mm^2, nu = 0.3, rho = 7850 kg/m^3
 #: (Harris & Kotzalas use 2.075e5 N/mm^2; catalogues quote 200-210 GPa).
-STEEL = Material("steel", 208000.0, 0.3)
-#: Bearing-grade silicon nitride (Si3N4) balls of hybrid bearings: E = 310 000 N/mm^2, nu = 0.26.
-SILICON_NITRIDE = Material("silicon-nitride", 310000.0, 0.26)
+STEEL = Material("steel", 208000.0, 0.3, 7850.0)
+#: Bearing-grade silicon nitride (Si3N4) balls of hybrid bearings: E = 310 000 N/mm^2, nu = 0.26,
+#: rho = 3200 kg/m^3 (about 40 % of steel's: the point of hybrid spindle bearings).
+SILICON_NITRIDE = Material("silicon-nitride", 310000.0, 0.26, 3200.0)
 #: Named materials accepted by ``material = "..."`` in a bearing file (for the balls).
 MATERIALS = {"steel": STEEL, "silicon-nitride": SILICON_NITRIDE}
 
@@ -336,6 +345,15 @@ class Geometry:
         bearings, ISO 76); the rows' ``deflection_limit`` is the ball
         deflection at which the more loaded race contact reaches it at a0.
         > 0.
+    ball_density : float or None
+        rho of the balls in kg/m^3, > 0; None: the ball material's (7850 steel, 3200 silicon nitride).
+        Only the high-speed model uses it (centrifugal force, gyroscopic moment).
+    race_control : {"outer", "inner", "none"}
+        Which raceway controls the balls' spin at speed (Harris): "outer" (the usual assumption for
+        spindle bearings; the gyroscopic moment is carried at the outer race, lambda_i, lambda_o = 0, 2),
+        "inner" (lambda = 1, 1) or "none" (no gyroscopic moment; orbital speed as for outer control).
+    rotating : {"inner", "outer"}
+        The ring that turns at the shaft speed (the other stands still).
     dynamic_load_rating, static_load_rating : float or None
         The catalogue's C and C0 of the bearing as listed, N (> 0): a single row's, or a double row's
         (DB, DF, DT) as a unit, whose rows then get C / 2^0.7 and C0 / 2 (ISO 281, ISO 76); for rows of
@@ -371,11 +389,19 @@ class Geometry:
     contact_pressure_limit: float = CONTACT_PRESSURE_LIMIT
     dynamic_load_rating: float | None = None
     static_load_rating: float | None = None
+    ball_density: float | None = None
+    race_control: str = "outer"
+    rotating: str = "inner"
 
     def __post_init__(self):
         v = validate
         set_ = object.__setattr__
         set_(self, "n_balls", v.integer(self.n_balls, "n_balls", low=1))
+        if self.ball_density is not None:
+            set_(self, "ball_density", v.number(self.ball_density, "ball_density", low=0, low_open=True,
+                                                units="kg/m^3"))
+        v.choice(self.race_control, "race_control", RACE_CONTROLS)
+        v.choice(self.rotating, "rotating", ROTATING_RINGS)
         D = v.number(self.ball_diameter, "ball_diameter", low=0, low_open=True, units="mm")
         set_(self, "ball_diameter", D)
         if not (validate._is_number(self.pitch_diameter) and math.isfinite(self.pitch_diameter)
@@ -483,6 +509,29 @@ class Geometry:
         load = (self.contact_pressure_limit / per_newton) ** 3
         return (load / self.hertz_constant) ** (2.0 / 3.0)
 
+    @property
+    def density(self) -> float:
+        """rho of the balls in kg/m^3: ``ball_density``, else the ball material's."""
+        return self.ball_density if self.ball_density is not None else self.ball_material.density
+
+    def speed_columns(self, contact_angle: float) -> tuple:
+        """The high-speed constants of a ball of this geometry in a row of unloaded contact angle
+        ``contact_angle`` (degrees), in the order of fastbearing.high_speed's table rows: (f_i - 1/2) D,
+        (f_o - 1/2) D (mm), K_i, K_o (N/mm^1.5, the race contacts at a0), m d_m/2 (kg*m: F_c in N for
+        omega in rad/s), J = m D^2/10 (N*mm*s^2: M_g in N*mm), gamma' = D/d_m, lambda_i, lambda_o, inner
+        control (0/1), outer ring rotates (0/1), f_i D (mm), D (mm), the outer contact's share of the
+        quasi-static deflection, cos a0."""
+        D, dm = self.ball_diameter, self.pitch_diameter
+        inner, outer = self.contacts(math.radians(contact_angle))
+        Ki, Ko = inner.constant, outer.constant
+        mass = self.density * math.pi * (D * 1e-3) ** 3 / 6.0  # kg
+        ratio = (Ki / Ko) ** (2.0 / 3.0)  # delta_o / delta_i with Q_i = Q_o
+        lambdas = {"outer": (0.0, 2.0), "inner": (1.0, 1.0), "none": (0.0, 0.0)}[self.race_control]
+        return ((self.inner_groove_ratio - 0.5) * D, (self.outer_groove_ratio - 0.5) * D, Ki, Ko,
+                mass * 0.5 * dm * 1e-3, mass * D * D / 10.0 * 1e-3, D / dm, *lambdas,
+                float(self.race_control == "inner"), float(self.rotating == "outer"), self.inner_groove_ratio * D,
+                D, ratio / (1.0 + ratio), math.cos(math.radians(contact_angle)))
+
     def row_keywords(self) -> dict:
         """The :class:`fastbearing.Row` keywords this geometry fixes (angles in degrees, as Row takes them)."""
         return dict(n_balls=self.n_balls, hertz_constant=self.hertz_constant, pitch_radius=self.pitch_radius,
@@ -534,7 +583,8 @@ def load_centre_spread(arrangement: str, row_offset: float, pitch_radius: float,
 GEOMETRY_KEYS = ("n_balls", "ball_diameter", "pitch_diameter", "inner_groove_ratio", "outer_groove_ratio",
                  "contact_angle", "diametral_clearance", "row_spacing", "youngs_modulus", "poisson_ratio",
                  "ball_youngs_modulus", "ring_youngs_modulus", "ball_poisson_ratio", "ring_poisson_ratio",
-                 "material", "ellipticity", "contact_pressure_limit", "dynamic_load_rating", "static_load_rating")
+                 "material", "ellipticity", "contact_pressure_limit", "dynamic_load_rating", "static_load_rating",
+                 "ball_density", "race_control", "rotating")
 _REQUIRED = ("n_balls", "ball_diameter", "pitch_diameter", "inner_groove_ratio", "outer_groove_ratio")
 
 
@@ -548,7 +598,8 @@ def _material_values(table: dict, where: str) -> tuple[Material, Material]:
             ball["name"] = ring["name"] = "custom"
     if "material" in table:
         m = MATERIALS[validate.choice(table["material"], f"{where}.material", sorted(MATERIALS))]
-        ball = {"name": m.name, "youngs_modulus": m.youngs_modulus, "poisson_ratio": m.poisson_ratio}
+        ball = {"name": m.name, "youngs_modulus": m.youngs_modulus, "poisson_ratio": m.poisson_ratio,
+                "density": m.density}
     for body, values in (("ball", ball), ("ring", ring)):
         for prop in ("youngs_modulus", "poisson_ratio"):
             key = f"{body}_{prop}"
@@ -573,13 +624,16 @@ def geometry_from_table(table: dict, where: str = "bearing.geometry") -> Geometr
     diametral_clearance (mm, default 0), row_spacing (mm, double rows),
     youngs_modulus (N/mm^2), poisson_ratio (balls and rings), ball_/ring_
     variants of both (one body), material ("steel" | "silicon-nitride", the
-    balls), ellipticity ("exact" | "hamrock-brewe"). A ValueError names the key.
+    balls), ellipticity ("exact" | "hamrock-brewe"); for the high-speed model
+    ball_density (kg/m^3), race_control ("outer" | "inner" | "none") and
+    rotating ("inner" | "outer"). A ValueError names the key.
     """
     validate.table(table, where, GEOMETRY_KEYS, _REQUIRED)
     ball, ring = _material_values(table, where)
     values = {k: table[k] for k in _REQUIRED + ("contact_angle", "diametral_clearance", "row_spacing", "ellipticity",
                                                 "contact_pressure_limit", "dynamic_load_rating",
-                                                "static_load_rating") if k in table}
+                                                "static_load_rating", "ball_density", "race_control",
+                                                "rotating") if k in table}
     try:
         return Geometry(**values, ball_material=ball, ring_material=ring)
     except validate.FieldError as err:

@@ -19,8 +19,9 @@ from numba import njit, types
 from numba.extending import overload
 
 from .config import CACHE, ERROR_MODEL, KERNEL_FASTMATH
+from .high_speed import spinning_balls
 from .roots import ninth_root
-from .status import BEYOND_VALIDITY, CONTACT_REVERSED
+from .status import BALL_UNSETTLED, BEYOND_VALIDITY, CONTACT_REVERSED
 
 #: The running sums of f (5) and the 14 independent Kb entries, at zero.
 ZERO_SUMS = (0.0,) * 19
@@ -102,8 +103,14 @@ def _add_load(acc, c, s, z, R, fr, fz):
 
 @njit(inline="always", error_model=ERROR_MODEL)
 def _put(a, i, j, v, add):
-    a[i, j] = a[i, j] + v if add else v
-    a[j, i] = a[i, j]
+    # added to both entries (Kb at speed need not be symmetric), or written symmetric
+    if add:
+        a[i, j] += v
+        if i != j:
+            a[j, i] += v
+    else:
+        a[i, j] = v
+        a[j, i] = v
 
 
 @njit(inline="always", error_model=ERROR_MODEL)
@@ -148,14 +155,16 @@ def ball_loop(q, balls, f, K, ball_load, contact_angle):
     ----------
     q : (5,) float64
         (dx, dy, dz, bx, by) in mm and rad at the bearing centre.
-    balls : tuple (table, exponent, smoothing, slices)
+    balls : tuple (table, exponent, smoothing, slices, speed_table, omega)
         ``table`` (13, n_balls) float64, column-major per-ball data from
         :meth:`fastbearing.Bearing.ball_set`; ``exponent`` None (all balls
         n = 1.5) or (n_balls,) float64 per-ball exponents; ``smoothing``
         None (the exact contact law) or eps in mm (see
         :func:`clamped_deflection`); ``slices`` (12, n_slices) the roller
         slices (rollers.slice_table; no columns for a ball bearing), added
-        by :func:`slice_loop`.
+        by :func:`slice_loop`; ``speed_table`` None (the quasi-static model) or
+        the per-ball constants of the high-speed model (bearing.speed_table)
+        with the shaft speed ``omega`` in rad/s (at 0 the quasi-static loop runs).
     f : (5,) float64, out
         (Fx, Fy, Fz, Mx, My) on the inner ring in N and N*mm.
     K : (5, 5) float64 or None, out
@@ -177,7 +186,56 @@ def ball_loop(q, balls, f, K, ball_load, contact_angle):
         direction, BEYOND_VALIDITY when a ball's deflection exceeds its
         row's deflection limit (table row DEFLECTION_LIMIT); 0 otherwise.
     """
-    table, exponent, smoothing, slices = balls
+    table, exponent, smoothing, slices, speed_table, omega = balls
+    total, n_loaded, warnings = ball_rows(q, table, exponent, smoothing, speed_table, omega, f, K, ball_load,
+                                          contact_angle)
+    if slices.shape[1] > 0:
+        t, n = slice_loop(q, slices, smoothing, f, K, ball_load, contact_angle)
+        total += t
+        n_loaded += n
+    return total, n_loaded, warnings
+
+
+def ball_rows(q, table, exponent, smoothing, speed_table, omega, f, K, ball_load, contact_angle):
+    """The ball rows' f and Kb (written, not added) and (total load, loaded balls, warning bits): the
+    quasi-static loop, or with a ``speed_table`` and omega (rad/s) > 0 the high-speed balls
+    (high_speed.spinning_balls). Chosen while typing: ``speed_table`` None compiles the quasi-static
+    loop alone."""
+
+
+@overload(ball_rows, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def _ball_rows(q, table, exponent, smoothing, speed_table, omega, f, K, ball_load, contact_angle):
+    if isinstance(speed_table, types.NoneType):
+        def quasi_static(q, table, exponent, smoothing, speed_table, omega, f, K, ball_load, contact_angle):
+            return quasi_static_balls(q, table, exponent, smoothing, f, K, ball_load, contact_angle)
+        return quasi_static
+
+    def at_speed(q, table, exponent, smoothing, speed_table, omega, f, K, ball_load, contact_angle):
+        if omega == 0.0:  # standing still: the quasi-static balls exactly
+            return quasi_static_balls(q, table, exponent, smoothing, f, K, ball_load, contact_angle)
+        total, n_loaded, flags = spinning_balls(q, table, speed_table, omega, smoothing_eps(smoothing), f, K,
+                                                ball_load, contact_angle, None)
+        warnings = ((CONTACT_REVERSED if flags & 1 else 0) | (BEYOND_VALIDITY if flags & 2 else 0)
+                    | (BALL_UNSETTLED if flags & 4 else 0))
+        return total, n_loaded, warnings
+    return at_speed
+
+
+def smoothing_eps(smoothing):
+    """The smoothing eps in mm as a float (0.0 for None: the exact contact law)."""
+
+
+@overload(smoothing_eps)
+def _smoothing_eps(smoothing):
+    if isinstance(smoothing, types.NoneType):
+        return lambda smoothing: 0.0
+    return lambda smoothing: smoothing
+
+
+@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def quasi_static_balls(q, table, exponent, smoothing, f, K, ball_load, contact_angle):
+    """The quasi-static ball loop (docs/model.md, "Per ball (row r, ball j at azimuth psi)"): writes f
+    and Kb, returns (total load N, loaded balls, warning bits)."""
     cos_psi = table[0]
     sin_psi = table[1]
     offset = table[2]
@@ -237,11 +295,9 @@ def ball_loop(q, balls, f, K, ball_load, contact_angle):
             acc = _add_load(acc, c, s, z, R, g * ur, g * uz)
     _store(acc, f, K, False)
     warnings = (CONTACT_REVERSED if n_reversed > 0 else 0) | (BEYOND_VALIDITY if n_beyond > 0 else 0)
-    if slices.shape[1] > 0:
-        t, n = slice_loop(q, slices, smoothing, f, K, ball_load, contact_angle)
-        total += t
-        n_loaded += n
     return total, n_loaded, warnings
+
+
 
 
 @njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)

@@ -184,7 +184,7 @@ def compute_block(tables: np.ndarray, slice_tables: np.ndarray, exponents: np.nd
     """Fill one block's results ``res``: every point of ``inputs`` at every cage position, then the
     summaries over the period (mean, min, max, variation, Fourier). The work unit of a table, here or on Dask.
     ``first`` (the block's first point) is unused: every point starts cold. ``stop[0] != 0`` ends early."""
-    passage_sweep(inputs, given_load, tables, slice_tables, exponents, res["q"], res["f"], res["K"], res["status"],
+    passage_sweep(inputs, given_load, tables, slice_tables, exponents, None, 0.0, res["q"], res["f"], res["K"], res["status"],
                   res["iterations"], res["residual"], res["max_ball_load"], res["loaded_balls"],
                   res["min_contact_angle"], res["max_contact_angle"], ball_row, settings, stop)
     if stop[0] != 0:

@@ -38,8 +38,8 @@ from .config import (CACHE, DIVERGED_REACH, ERROR_MODEL, FASTMATH, SEARCH_CURVAT
                      SMOOTHING_FIRST, SMOOTHING_LAST, SMOOTHING_RATIO, SMOOTHING_RTOL, STAGNATION_ITERATIONS)
 from .kernel import ball_loop
 from .linalg import cholesky_solve, lu_solve
-from .status import (CONVERGED, ITERATION_LIMIT, NONFINITE_INPUT, NONFINITE_RESULT,
-                     PRECISION_LIMIT, SINGULAR, STALLED, UNLOADED)
+from .status import (BALL_EQUILIBRIUM, BALL_UNSETTLED, CONVERGED, ITERATION_LIMIT, NONFINITE_INPUT,
+                     NONFINITE_RESULT, PRECISION_LIMIT, SINGULAR, STALLED, UNLOADED, WARNING_MASK)
 
 NEWTON = 0
 BROYDEN = 1
@@ -438,14 +438,15 @@ def _smoothing_continuation(f_target, q, f, K, balls, settings, tol, arm, reach,
     contact law from the smallest. Returns what :func:`_minimise_energy`
     does, with iterations and evaluations summed over the levels.
     """
-    table, exponent, _, slices = balls
+    table, exponent, _, slices, speed_table, omega = balls
     eps = SMOOTHING_FIRST * reach
     iterations = 0
     evals = 0
     while eps > SMOOTHING_LAST * reach:
         level_tol = max(tol, SMOOTHING_RTOL * tol / settings.rtol)
-        st, it, rmax, ev, total, warn = _minimise_energy(f_target, q, f, K, (table, exponent, eps, slices), settings,
-                                                          level_tol, arm, reach, D, work)
+        smoothed = (table, exponent, eps, slices, speed_table, omega)
+        st, it, rmax, ev, total, warn = _minimise_energy(f_target, q, f, K, smoothed, settings, level_tol, arm,
+                                                          reach, D, work)
         iterations += it
         evals += ev
         if st == SINGULAR:
@@ -453,6 +454,15 @@ def _smoothing_continuation(f_target, q, f, K, balls, settings, tol, arm, reach,
         eps *= SMOOTHING_RATIO
     st, it, rmax, ev, total, warn = _minimise_energy(f_target, q, f, K, balls, settings, tol, arm, reach, D, work)
     return st, iterations + it, rmax, evals + ev, total, warn
+
+
+@njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True)
+def with_warnings(status, warn):
+    """A converged outcome with the kernel's warning bits on top; a ball at speed that did not settle
+    (BALL_UNSETTLED) makes it BALL_EQUILIBRIUM: f and Kb there are not the model's."""
+    if warn & BALL_UNSETTLED:
+        return BALL_EQUILIBRIUM | (warn & WARNING_MASK)
+    return status | (warn & WARNING_MASK)
 
 
 @njit(cache=CACHE, fastmath=FASTMATH, error_model=ERROR_MODEL, nogil=True)
@@ -575,6 +585,6 @@ def solve_case(f_target, q, f, K, balls, settings, warm, work, ball_load, contac
         if travel > DIVERGED_REACH * reach:
             status = SINGULAR  # ran off along a direction the bearing does not hold
     if status == CONVERGED:
-        status |= warn  # the kernel's warning bits at the solution
+        status = with_warnings(status, warn)  # the kernel's warning bits at the solution
     residual = rmax / scale if scale > 0.0 else rmax / max(total, 1e-300)
     return SolveOutcome(status, iterations, residual, evals)

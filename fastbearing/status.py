@@ -21,6 +21,9 @@ STALLED = 5
 PRECISION_LIMIT = 6
 #: f or Kb came out inf or nan (a displacement or load too large for float64).
 NONFINITE_RESULT = 7
+#: At speed: some ball's own equilibrium (centrifugal force, gyroscopic moment) did not settle at the
+#: returned q, so f and Kb there are not the model's (high_speed.settle_ball).
+BALL_EQUILIBRIUM = 8
 
 #: Warning bit: at the solution a loaded ball's contact angle has the opposite
 #: sign to its row's contact direction (the ring may have no shoulder there).
@@ -31,6 +34,9 @@ CONTACT_REVERSED = 16
 BEYOND_VALIDITY = 32
 #: Both warning bits.
 WARNING_MASK = CONTACT_REVERSED | BEYOND_VALIDITY
+#: Kernel flag (never in a stored status): a ball at speed did not settle; the solver and the sweeps turn
+#: it into the outcome BALL_EQUILIBRIUM.
+BALL_UNSETTLED = 64
 
 OUTCOME_MASK = 15
 
@@ -43,6 +49,7 @@ NAMES = {
     STALLED: "stalled",
     PRECISION_LIMIT: "precision_limit",
     NONFINITE_RESULT: "nonfinite_result",
+    BALL_EQUILIBRIUM: "ball_equilibrium",
 }
 
 

@@ -9,13 +9,13 @@ import math
 
 import numpy as np
 from numba import njit, prange, types
-from numba.extending import intrinsic
+from numba.extending import intrinsic, overload
 
 from .config import CACHE, ERROR_MODEL
 from .kernel import ball_loop
 from .linalg import cholesky_solve
 from .roots import cube_root
-from .solver import WORK_ROWS, solve_case
+from .solver import WORK_ROWS, solve_case, with_warnings
 from .status import CONVERGED, NONFINITE_RESULT, OUTCOME_MASK, UNLOADED
 
 
@@ -39,15 +39,29 @@ def stop_requested(stop):
     return _load_flag(stop) != 0
 
 
+def at_speed(balls, speeds, i):
+    """The ball set of case i: ``balls`` itself when it has no spin (quasi-static), else with the spin's
+    omega replaced by ``speeds[i]`` (rad/s). Chosen while typing, so the quasi-static sweeps are unchanged."""
+
+
+@overload(at_speed)
+def _at_speed(balls, speeds, i):
+    if isinstance(balls.types[4], types.NoneType):
+        return lambda balls, speeds, i: balls
+    return lambda balls, speeds, i: (balls[0], balls[1], balls[2], balls[3], balls[4], speeds[i])
+
+
 @njit(parallel=True, cache=CACHE, error_model=ERROR_MODEL)
-def solve_sweep(f_targets, q, f, K, status, iterations, residual, evaluations, balls, settings, warm, block):
-    """Solve every row of ``f_targets`` (N, 5); q (N, 5) holds warm starts when ``warm``."""
+def solve_sweep(f_targets, q, f, K, status, iterations, residual, evaluations, balls, speeds, settings, warm, block):
+    """Solve every row of ``f_targets`` (N, 5); q (N, 5) holds warm starts when ``warm``; with a spinning
+    ball set, case i runs at ``speeds[i]`` rad/s (:func:`at_speed`)."""
     n = f_targets.shape[0]
     n_blocks = (n + block - 1) // block
     for b in prange(n_blocks):
         work = np.empty((WORK_ROWS, 5))
         for i in range(b * block, min(n, (b + 1) * block)):
-            out = solve_case(f_targets[i], q[i], f[i], K[i], balls, settings, warm, work, None, None)
+            out = solve_case(f_targets[i], q[i], f[i], K[i], at_speed(balls, speeds, i), settings, warm, work,
+                             None, None)
             status[i] = out.status
             iterations[i] = out.iterations
             residual[i] = out.residual
@@ -55,13 +69,14 @@ def solve_sweep(f_targets, q, f, K, status, iterations, residual, evaluations, b
 
 
 @njit(parallel=True, cache=CACHE, error_model=ERROR_MODEL)
-def stiffness_sweep(q, f, K, balls, block):
-    """f and Kb at every row of q (N, 5) by direct substitution."""
+def stiffness_sweep(q, f, K, balls, speeds, block):
+    """f and Kb at every row of q (N, 5) by direct substitution (case i at ``speeds[i]`` rad/s with a
+    spinning ball set)."""
     n = q.shape[0]
     n_blocks = (n + block - 1) // block
     for b in prange(n_blocks):
         for i in range(b * block, min(n, (b + 1) * block)):
-            ball_loop(q[i], balls, f[i], K[i], None, None)
+            ball_loop(q[i], at_speed(balls, speeds, i), f[i], K[i], None, None)
 
 
 @njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True)
@@ -193,7 +208,7 @@ def operating_point(given_load, inputs, warm, q, f, K, balls, settings, work, ba
         q[d] = inputs[d]
     warnings = ball_loop(q, balls, f, K, ball_load, contact_angle)[2]
     status = substitution_status(f, K)
-    return (status | warnings if status == CONVERGED else status), 0, 0.0
+    return (with_warnings(status, warnings) if status == CONVERGED else status), 0, 0.0
 
 
 @njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True)
@@ -289,13 +304,13 @@ def map_sweep(inputs, given_load, segments, q, f, K, status, iterations, residua
 
 
 @njit(parallel=True, cache=CACHE, error_model=ERROR_MODEL, nogil=True)
-def passage_sweep(inputs, given_load, tables, slice_tables, exponent, q, f, K, status, iterations, residual,
+def passage_sweep(inputs, given_load, tables, slice_tables, exponent, speed_table, omega, q, f, K, status, iterations, residual,
                   max_load, n_loaded, min_angle, max_angle, ball_row, settings, stop):
     """Ball-passage tables, in place: every operating point at every cage position.
 
     ``tables`` (P, 13, n_balls) and ``slice_tables`` (P, 12, n_slices) hold the ball and roller-slice
     tables at each of P cage
-    angles (``exponent`` as in a ball set); outputs are (N, P, ...). Along
+    angles (``exponent``, ``speed_table`` and ``omega`` as in a ball set); outputs are (N, P, ...). Along
     the positions of one point each solve starts from the previous
     position's converged q. ``stop[0] != 0`` ends the sweep early, as in map_sweep.
     """
@@ -316,7 +331,7 @@ def passage_sweep(inputs, given_load, tables, slice_tables, exponent, q, f, K, s
                     for d in range(5):
                         q[i, p, d] = q[i, p - 1, d]
                 status[i, p], iterations[i, p], residual[i, p] = operating_point(
-                    given_load, inputs[i], warm, q[i, p], f[i, p], K[i, p], (tables[p], exponent, None, slice_tables[p]),
+                    given_load, inputs[i], warm, q[i, p], f[i, p], K[i, p], (tables[p], exponent, None, slice_tables[p], speed_table, omega),
                     settings,
                     work, ball_load, contact_angle)
                 row_summary(ball_load, contact_angle, ball_row, max_load[i, p], n_loaded[i, p], min_angle[i, p],

@@ -1,0 +1,412 @@
+"""The high-speed ball: each ball in equilibrium under its two contacts, its centrifugal force and its
+gyroscopic moment (Jones-Harris quasi-static model; docs/model.md, "High speed").
+
+At shaft speed the ball centre leaves the line through the groove-curvature centres: the centrifugal
+force F_c = 0.5 m d_m omega_m^2 presses it outward, the outer contact angle alpha_o falls below the inner
+alpha_i, and the contacts' loads Q_i, Q_o differ. Per ball (in its azimuth's radial-axial plane, frame
+mirrored so that the row's contact direction is +z) the ball centre B, measured from the outer
+groove-curvature centre O, solves the 2x2 equilibrium
+
+    g(B) = Q_i n_i - Q_o n_o + F_c e_r + (M_g / D) (lambda_i t_i - lambda_o t_o) = 0,
+
+with n_o = B/|B|, n_i = (u - B)/|u - B| (u: the inner groove centre I seen from O, the quasi-static
+kernel's (ur, uz)), delta_o = |B| - (f_o - 1/2) D, delta_i = |u - B| - (f_i - 1/2) D, Q = K delta^1.5 with
+each race's own Hertz constant, t = (sin a, -cos a) the contact tangent that carries the friction of the
+gyroscopic moment (race control: lambda_i, lambda_o = 0, 2 for outer-raceway control, 1, 1 for inner,
+0, 0 for none). Kinematics from the contact angles (Harris & Kotzalas, *Advanced Concepts of Bearing
+Technology*, 5th ed., ch. 3; rolling without slip at both contacts, the spin axis at beta set by the race
+that controls): with C = cos(alpha_i - alpha_o) and gamma' = D/d_m,
+
+    outer control: omega_m = (w_i (1 - gamma' cos a_i) + w_o (C + gamma' cos a_i)) / (1 + C)
+                   M_g = J (w_o - w_i)/gamma' * omega_m (1 - gamma' cos a_i) sin a_o / (1 + C)
+    inner control: omega_m = (w_i (C - gamma' cos a_o) + w_o (1 + gamma' cos a_o)) / (1 + C)
+                   M_g = J (w_o - w_i)/gamma' * omega_m (1 + gamma' cos a_o) sin a_i / (1 + C)
+
+(w_i, w_o: ring speeds, rad/s; M_g = J omega_R omega_m sin(beta) written out, negative with Harris's sign
+of omega_R; J = m D^2/10). The ring feels the inner contact: F = Q_i n_i + lambda_i (M_g/D) t_i, plus the
+moment lambda_i f_i M_g of the friction's lever about I. Kb is the exact derivative with every ball kept
+in equilibrium: per ball dF/du = F_u - F_B G_B^-1 G_u (the ball's two unknowns condensed out), all
+analytic. It is not symmetric in general: the friction of the gyroscopic moment and the angle-dependent
+orbital speed are not conservative.
+
+Units: mm, N, N*mm, rad, rad/s; ball mass and inertia enter through the table's kg*m and N*mm*s^2
+columns so that F_c comes out in N and M_g in N*mm.
+"""
+
+import math
+
+from numba import njit
+
+from .config import ERROR_MODEL, KERNEL_FASTMATH
+
+# Rows of the per-ball high-speed table (column j is ball j, aligned with the ball table).
+(INNER_RADIUS, OUTER_RADIUS, K_INNER, K_OUTER, MASS_RADIUS, INERTIA, GAMMA, LAMBDA_INNER, LAMBDA_OUTER,
+ INNER_CONTROL, OUTER_ROTATES, INNER_ARM, DIAMETER, OUTER_SHARE, COS_NOMINAL) = range(15)
+N_SPEED_COLUMNS = 15
+
+#: Newton iterations allowed per ball, and the relative residual at which a ball is in equilibrium.
+BALL_ITERATIONS = 40
+BALL_RTOL = 1e-13
+
+#: Fields of a ball's state record (solve --balls at speed): row j of an (n_balls, N_STATE) array.
+(STATE_INNER_LOAD, STATE_OUTER_LOAD, STATE_INNER_ANGLE, STATE_OUTER_ANGLE, STATE_CENTRIFUGAL, STATE_GYROSCOPIC,
+ STATE_ORBITAL_SPEED, STATE_ITERATIONS, STATE_RESIDUAL) = range(9)
+N_STATE = 9
+
+
+@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def _race(L, r0, k, smoothing_eps):
+    """A race contact from the centre distance L (mm): (delta, Q, dQ/dL) with Q = k delta^1.5; a positive
+    ``smoothing_eps`` (mm) uses the solver's smooth (d + sqrt(d^2 + eps^2))/2 for max(d, 0)."""
+    d = L - r0
+    if smoothing_eps > 0.0:
+        root = math.sqrt(d * d + smoothing_eps * smoothing_eps)
+        delta = 0.5 * (d + root)
+        slope = 0.5 * (1.0 + d / root)
+    else:
+        delta = max(d, 0.0)
+        slope = 1.0
+    sq = math.sqrt(delta)
+    return delta, k * delta * sq, 1.5 * k * sq * slope
+
+
+@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def kinematics(ci, si, co, so, w_i, w_o, gamma, inner_control):
+    """Orbital speed omega_m (rad/s) and the spin factor S (M_g = J (w_o - w_i)/gamma' S) from the unit
+    contact normals n_i = (ci, si), n_o = (co, so), with their gradients with respect to (ci, si, co, so).
+
+    Returns (omega_m, dm_ci, dm_si, dm_co, dm_so, S, dS_ci, dS_si, dS_co, dS_so). Identities of unit
+    vectors are used freely: the callers project the gradients onto the circle.
+    """
+    C = ci * co + si * so
+    den = 1.0 + C
+    if inner_control:
+        b = 1.0 + gamma * co
+        N = w_i * (C - gamma * co) + w_o * b
+        n_ci, n_si, n_co, n_so = w_i * co, w_i * so, w_i * (ci - gamma) + w_o * gamma, w_i * si
+        wm = N / den
+        m_ci = (n_ci - wm * co) / den
+        m_si = (n_si - wm * so) / den
+        m_co = (n_co - wm * ci) / den
+        m_so = (n_so - wm * si) / den
+        S = wm * b * si / den
+        s_ci = (m_ci * b * si) / den - S * co / den
+        s_si = (m_si * b * si + wm * b) / den - S * so / den
+        s_co = (m_co * b * si + wm * gamma * si) / den - S * ci / den
+        s_so = (m_so * b * si) / den - S * si / den
+        return wm, m_ci, m_si, m_co, m_so, S, s_ci, s_si, s_co, s_so
+    a = 1.0 - gamma * ci
+    N = w_i * a + w_o * (C + gamma * ci)
+    n_ci, n_si, n_co, n_so = -w_i * gamma + w_o * (co + gamma), w_o * so, w_o * ci, w_o * si
+    wm = N / den
+    m_ci = (n_ci - wm * co) / den
+    m_si = (n_si - wm * so) / den
+    m_co = (n_co - wm * ci) / den
+    m_so = (n_so - wm * si) / den
+    S = wm * a * so / den
+    s_ci = (m_ci * a * so - wm * gamma * so) / den - S * co / den
+    s_si = (m_si * a * so) / den - S * so / den
+    s_co = (m_co * a * so) / den - S * ci / den
+    s_so = (m_so * a * so + wm * a) / den - S * si / den
+    return wm, m_ci, m_si, m_co, m_so, S, s_ci, s_si, s_co, s_so
+
+
+@njit(fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def ball_state(ur, uz, br, bz, p, w_i, w_o, smoothing_eps):
+    """Everything about one ball at centre B = (br, bz) (mm from O, mirrored frame) for the inner groove
+    centre at u = (ur, uz): the residual g, its Jacobian G_B, G_u = dg/du, the ring force F and moment m
+    with their partial derivatives. ``p`` is the ball's column of the high-speed table (a tuple).
+
+    Returns (g_r, g_z, GB_rr, GB_rz, GB_zr, GB_zz, GU_rr, GU_rz, GU_zr, GU_zz, F_r, F_z, FU_rr, FU_rz,
+    FU_zr, FU_zz, FB_rr, FB_rz, FB_zr, FB_zz, m, mu_r, mu_z, mb_r, mb_z, Q_i, Q_o, ci, si, co, so,
+    F_c, M_g, omega_m, delta_i, delta_o).
+    """
+    (ri, ro, Ki, Ko, mass_radius, inertia, gamma, li, lo, inner_control, outer_rotates, arm, D, _, _) = p
+    Lo = math.sqrt(br * br + bz * bz)
+    co = br / Lo
+    so = bz / Lo
+    vr = ur - br
+    vz = uz - bz
+    Li = math.sqrt(vr * vr + vz * vz)
+    ci = vr / Li
+    si = vz / Li
+    delta_o, Qo, dQo = _race(Lo, ro, Ko, smoothing_eps)
+    delta_i, Qi, dQi = _race(Li, ri, Ki, smoothing_eps)
+    wm, m_ci, m_si, m_co, m_so, S, s_ci, s_si, s_co, s_so = kinematics(ci, si, co, so, w_i, w_o, gamma,
+                                                                      inner_control != 0.0)
+    Fc = mass_radius * wm * wm
+    jc = inertia * (w_o - w_i) / gamma
+    Mg = jc * S
+    # projections P = I - n n^T of the two normals, divided by the centre distances
+    por, poc, poz = so * so / Lo, -co * so / Lo, co * co / Lo
+    pir, pic, piz = si * si / Li, -ci * si / Li, ci * ci / Li
+    # gradients of a function of (n_i, n_o): d/du = n_i part, d/dB = n_o part - d/du
+    fci, fsi, fco, fso = 2.0 * mass_radius * wm * m_ci, 2.0 * mass_radius * wm * m_si, \
+        2.0 * mass_radius * wm * m_co, 2.0 * mass_radius * wm * m_so
+    Fc_ur = fci * pir + fsi * pic
+    Fc_uz = fci * pic + fsi * piz
+    Fc_br = fco * por + fso * poc - Fc_ur
+    Fc_bz = fco * poc + fso * poz - Fc_uz
+    Mg_ur = jc * (s_ci * pir + s_si * pic)
+    Mg_uz = jc * (s_ci * pic + s_si * piz)
+    Mg_br = jc * (s_co * por + s_so * poc) - Mg_ur
+    Mg_bz = jc * (s_co * poc + s_so * poz) - Mg_uz
+    # contact Hessians H = Q' n n^T + (Q/L) P
+    gi = Qi / Li
+    go = Qo / Lo
+    hi_rr = dQi * ci * ci + gi * si * si
+    hi_rz = (dQi - gi) * ci * si
+    hi_zz = dQi * si * si + gi * ci * ci
+    ho_rr = dQo * co * co + go * so * so
+    ho_rz = (dQo - go) * co * so
+    ho_zz = dQo * so * so + go * co * co
+    # friction of the gyroscopic moment: (M_g/D) T, T = li t_i - lo t_o, t = (sin a, -cos a);
+    # dt_i/du = R P_i/L_i, dt_i/dB = -R P_i/L_i, dt_o/dB = R P_o/L_o with R (x, y) = (y, -x)
+    Tr = li * si - lo * so
+    Tz = -li * ci + lo * co
+    inv_D = 1.0 / D
+    mgd = Mg * inv_D
+    g_r = Qi * ci - Qo * co + Fc + mgd * Tr
+    g_z = Qi * si - Qo * so + mgd * Tz
+    # dT/dB
+    dTr_br = -li * pic - lo * poc
+    dTr_bz = -li * piz - lo * poz
+    dTz_br = li * pir + lo * por
+    dTz_bz = li * pic + lo * poc
+    GB_rr = -hi_rr - ho_rr + Fc_br + inv_D * (Tr * Mg_br + Mg * dTr_br)
+    GB_rz = -hi_rz - ho_rz + Fc_bz + inv_D * (Tr * Mg_bz + Mg * dTr_bz)
+    GB_zr = -hi_rz - ho_rz + inv_D * (Tz * Mg_br + Mg * dTz_br)
+    GB_zz = -hi_zz - ho_zz + inv_D * (Tz * Mg_bz + Mg * dTz_bz)
+    # dT/du = li R P_i / L_i
+    GU_rr = hi_rr + Fc_ur + inv_D * (Tr * Mg_ur + Mg * li * pic)
+    GU_rz = hi_rz + Fc_uz + inv_D * (Tr * Mg_uz + Mg * li * piz)
+    GU_zr = hi_rz + inv_D * (Tz * Mg_ur - Mg * li * pir)
+    GU_zz = hi_zz + inv_D * (Tz * Mg_uz - Mg * li * pic)
+    # the ring's share: F = Q_i n_i + li (M_g/D) t_i, m = li f_i D M_g/D
+    lid = li * inv_D
+    F_r = Qi * ci + lid * Mg * si
+    F_z = Qi * si - lid * Mg * ci
+    FU_rr = hi_rr + lid * (si * Mg_ur + Mg * pic)
+    FU_rz = hi_rz + lid * (si * Mg_uz + Mg * piz)
+    FU_zr = hi_rz + lid * (-ci * Mg_ur - Mg * pir)
+    FU_zz = hi_zz + lid * (-ci * Mg_uz - Mg * pic)
+    FB_rr = -hi_rr + lid * (si * Mg_br - Mg * pic)
+    FB_rz = -hi_rz + lid * (si * Mg_bz - Mg * piz)
+    FB_zr = -hi_rz + lid * (-ci * Mg_br + Mg * pir)
+    FB_zz = -hi_zz + lid * (-ci * Mg_bz + Mg * pic)
+    la = li * arm
+    return (g_r, g_z, GB_rr, GB_rz, GB_zr, GB_zz, GU_rr, GU_rz, GU_zr, GU_zz, F_r, F_z, FU_rr, FU_rz, FU_zr,
+            FU_zz, FB_rr, FB_rz, FB_zr, FB_zz, la * Mg, la * Mg_ur, la * Mg_uz, la * Mg_br, la * Mg_bz,
+            Qi, Qo, ci, si, co, so, Fc, Mg, wm, delta_i, delta_o)
+
+
+@njit(fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def start_position(ur, uz, p, w_i, w_o, smoothing_eps):
+    """First guess of the ball centre B (mm from O, mirrored frame) and whether the ball touches the inner
+    race at all.
+
+    A ball the rings leave room for sits on the outer race under its centrifugal force F_c0 (at the nominal
+    orbital speed): when there it stays clear of the inner race it carries nothing to the ring
+    (returns inner_loaded False). Otherwise the guess loads the inner contact with Q_i0 = max(Q, F_c0/4)
+    and the outer with Q_i0 + F_c0 (Q: the quasi-static ball load) and puts B where the two contacts'
+    circles about O and I, of radii (f_o - 1/2) D + delta_o0 and (f_i - 1/2) D + delta_i0, cross on the
+    outer side; at zero speed that is the quasi-static position on the line O-I exactly.
+    """
+    ri, ro, Ki, Ko = p[INNER_RADIUS], p[OUTER_RADIUS], p[K_INNER], p[K_OUTER]
+    A = math.sqrt(ur * ur + uz * uz)
+    delta = A - ri - ro
+    if smoothing_eps > 0.0:
+        delta = 0.5 * (delta + math.sqrt(delta * delta + smoothing_eps * smoothing_eps))
+    gamma = p[GAMMA]
+    cos_a = p[COS_NOMINAL]
+    wm = 0.5 * (w_i * (1.0 - gamma * cos_a) + w_o * (1.0 + gamma * cos_a))
+    Fc = p[MASS_RADIUS] * wm * wm
+    if delta <= 0.0:
+        br = ro + (Fc / Ko) ** (2.0 / 3.0)
+        vr = ur - br
+        if Fc == 0.0:  # standing still, out of contact: on the line O-I, touching the outer race
+            return ro * ur / A, ro * uz / A, False
+        if math.sqrt(vr * vr + uz * uz) <= ri:  # room to move out: free on the outer race
+            return br, 0.0, False
+    d_o = p[OUTER_SHARE] * max(delta, 0.0)
+    Q = Ko * d_o * math.sqrt(d_o)
+    Qi = max(Q, 0.25 * Fc)
+    Ro = ro + (Qi + Fc) / Ko * ((Qi + Fc) / Ko) ** (-1.0 / 3.0) if Qi + Fc > 0.0 else ro
+    Ri = ri + Qi / Ki * (Qi / Ki) ** (-1.0 / 3.0) if Qi > 0.0 else ri
+    er = ur / A
+    ez = uz / A
+    if A >= Ro + Ri or A <= abs(Ro - Ri):  # the circles do not cross: on the line O-I
+        return Ro * er, Ro * ez, True
+    x = (A * A + Ro * Ro - Ri * Ri) / (2.0 * A)
+    h = math.sqrt(max(Ro * Ro - x * x, 0.0))
+    # the crossing on the outer side (F_c pushes the ball outward)
+    pr, pz = (ez, -er) if ez >= 0.0 else (-ez, er)
+    return x * er + h * pr, x * ez + h * pz, True
+
+
+@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def _tolerance(st, reach):
+    """The residual (N) at which a ball is settled: BALL_RTOL of its largest force, or the rounding floor
+    of its position (the contact stiffness times a few ulps of the centre distances ``reach``, mm) for
+    the lightest contacts, whose deflections are a few ulps of the centre distances."""
+    scale = st[25] + st[26] + abs(st[31])
+    stiffness = abs(st[2]) + abs(st[3]) + abs(st[4]) + abs(st[5])
+    return max(BALL_RTOL * scale, 8.0 * 2.220446049250313e-16 * reach * stiffness)
+
+
+@njit(fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def settle_ball(ur, uz, p, w_i, w_o, smoothing_eps):
+    """Newton on one ball's equilibrium g(B) = 0 from :func:`start_position`.
+
+    Returns (state tuple of :func:`ball_state` at the solution, iterations, settled): a ball the rings
+    leave free returns settled with its state at the free position (Q_i = 0: nothing for the ring).
+    """
+    br, bz, loaded = start_position(ur, uz, p, w_i, w_o, smoothing_eps)
+    st = ball_state(ur, uz, br, bz, p, w_i, w_o, smoothing_eps)
+    if not loaded:
+        return st, 0, True
+    reach = p[INNER_RADIUS] + p[OUTER_RADIUS] + abs(ur) + abs(uz)
+    for it in range(BALL_ITERATIONS):
+        g_r, g_z, a, b, c, d = st[0], st[1], st[2], st[3], st[4], st[5]
+        if max(abs(g_r), abs(g_z)) <= _tolerance(st, reach):
+            return st, it, True
+        det = a * d - b * c
+        step_r = (d * g_r - b * g_z) / det
+        step_z = (a * g_z - c * g_r) / det
+        # a step may at most halve either deflection (Hertz contacts soften to nothing as they unload),
+        # but may swing the ball round its contacts freely (the soft tangential direction)
+        shrink_o = st[29] * step_r + st[30] * step_z  # delta_o falls by n_o . step
+        shrink_i = -(st[27] * step_r + st[28] * step_z)  # delta_i falls by -n_i . step
+        t = 1.0
+        if shrink_o > 0.5 * st[35] + 1e-15 * reach:
+            t = min(t, (0.5 * st[35] + 1e-15 * reach) / shrink_o)
+        if shrink_i > 0.5 * st[34] + 1e-15 * reach:
+            t = min(t, (0.5 * st[34] + 1e-15 * reach) / shrink_i)
+        step_r *= t
+        step_z *= t
+        br -= step_r
+        bz -= step_z
+        st = ball_state(ur, uz, br, bz, p, w_i, w_o, smoothing_eps)
+    return st, BALL_ITERATIONS, max(abs(st[0]), abs(st[1])) <= _tolerance(st, reach)
+
+
+@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def condensed(st):
+    """The ball's condensed stiffness: dF/du = F_u - F_B G_B^-1 G_u (2x2, mirrored frame) and
+    dm/du = m_u - m_B G_B^-1 G_u (2), from a :func:`ball_state` tuple."""
+    a, b, c, d = st[2], st[3], st[4], st[5]
+    det = a * d - b * c
+    # X = G_B^-1 G_u
+    x00 = (d * st[6] - b * st[8]) / det
+    x01 = (d * st[7] - b * st[9]) / det
+    x10 = (a * st[8] - c * st[6]) / det
+    x11 = (a * st[9] - c * st[7]) / det
+    k00 = st[12] - (st[16] * x00 + st[17] * x10)
+    k01 = st[13] - (st[16] * x01 + st[17] * x11)
+    k10 = st[14] - (st[18] * x00 + st[19] * x10)
+    k11 = st[15] - (st[18] * x01 + st[19] * x11)
+    m0 = st[21] - (st[23] * x00 + st[24] * x10)
+    m1 = st[22] - (st[23] * x01 + st[24] * x11)
+    return k00, k01, k10, k11, m0, m1
+
+
+@njit(fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def spinning_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact_angle, states):
+    """Write f (5) and, unless ``K`` is None, Kb (5x5, not symmetric) of the ball rows at shaft speed.
+
+    ``table`` is the quasi-static ball table (bearing.ball_table), ``speed_table`` (N_SPEED_COLUMNS,
+    n_balls) the balls' high-speed constants, ``omega`` the shaft speed in rad/s, ``eps`` the solver's smoothing (mm; 0: the
+    exact contact law). Each ball's centre is settled by :func:`settle_ball`; the ring gets its inner
+    contact's force (and the friction's moment) through the same J = [a; b] as the quasi-static ball,
+    and Kb += J^T (dF/du) J + w (dm/du) J per ball with w = (0, 0, 0, sin psi, -cos psi).
+    ``ball_load``/``contact_angle`` record Q_i (N) and alpha_i (rad, positive on the row's direction);
+    ``states`` (n_balls, N_STATE) or None records the whole ball. Returns (sum of Q_i in N, loaded balls,
+    warning bits: 1 contact reversed, 2 beyond validity, 4 a ball not settled).
+    """
+    n = table.shape[1]
+    f0 = f1 = f2 = f3 = f4 = 0.0
+    if K is not None:
+        for i in range(5):
+            for k in range(5):
+                K[i, k] = 0.0
+    total = 0.0
+    n_loaded = 0
+    flags = 0
+    for j in range(n):
+        c = table[0, j]
+        s = table[1, j]
+        z = table[2, j]
+        R = table[3, j]
+        sgn = table[10, j]
+        dr = (q[0] + z * q[4]) * c + (q[1] - z * q[3]) * s
+        dzb = q[2] + R * (q[3] * s - q[4] * c)
+        ur = dr + table[4, j]
+        uz = sgn * (dzb + table[5, j])  # mirrored: the row's contact direction is +z
+        p = (speed_table[0, j], speed_table[1, j], speed_table[2, j], speed_table[3, j], speed_table[4, j],
+             speed_table[5, j], speed_table[6, j], speed_table[7, j], speed_table[8, j], speed_table[9, j],
+             speed_table[10, j], speed_table[11, j], speed_table[12, j], speed_table[13, j], speed_table[14, j])
+        outer = speed_table[OUTER_ROTATES, j]
+        w_i = omega * (1.0 - outer)
+        w_o = omega * outer
+        st, iterations, settled = settle_ball(ur, uz, p, w_i, w_o, eps)
+        Qi = st[25]
+        si = st[28]
+        loaded = st[34] > 0.0
+        n_loaded += loaded
+        if not settled:
+            flags |= 4
+        if loaded and si < 0.0:
+            flags |= 1
+        if st[34] + st[35] > table[12, j]:
+            flags |= 2
+        total += Qi
+        if ball_load is not None:
+            ball_load[j] = Qi
+            contact_angle[j] = math.atan2(si, st[27])
+        if states is not None:
+            states[j, STATE_INNER_LOAD] = Qi
+            states[j, STATE_OUTER_LOAD] = st[26]
+            states[j, STATE_INNER_ANGLE] = math.atan2(si, st[27])
+            states[j, STATE_OUTER_ANGLE] = math.atan2(st[30], st[29])
+            states[j, STATE_CENTRIFUGAL] = st[31]
+            states[j, STATE_GYROSCOPIC] = st[32]
+            states[j, STATE_ORBITAL_SPEED] = st[33]
+            states[j, STATE_ITERATIONS] = iterations
+            # the equilibrium residual relative to the ball's largest force (0 for a free ball)
+            states[j, STATE_RESIDUAL] = max(abs(st[0]), abs(st[1])) / max(st[25] + st[26] + abs(st[31]), 1e-300)
+        if not Qi > 0.0 and eps == 0.0:
+            continue
+        # back to the bearing's frame: the axial components take the row's sign
+        Fr = st[10]
+        Fz = sgn * st[11]
+        m = R * Fz - z * Fr + sgn * st[20]
+        f0 += Fr * c
+        f1 += Fr * s
+        f2 += Fz
+        f3 += m * s
+        f4 -= m * c
+        if K is not None:
+            k00, k01, k10, k11, m0, m1 = condensed(st)
+            k01 *= sgn
+            k10 *= sgn
+            m0 *= sgn
+            # rows of J: a = d(ur)/dq, b = d(uz)/dq (bearing frame), w maps the friction's moment
+            a = (c, s, 0.0, -z * s, z * c)
+            b = (0.0, 0.0, 1.0, R * s, -R * c)
+            for col in range(5):
+                ra = k00 * a[col] + k01 * b[col]
+                rb = k10 * a[col] + k11 * b[col]
+                rw = m0 * a[col] + m1 * b[col]
+                # moment row: d(R Fz - z Fr + m)/dq
+                rm = R * rb - z * ra + rw
+                K[0, col] += c * ra
+                K[1, col] += s * ra
+                K[2, col] += rb
+                K[3, col] += s * rm
+                K[4, col] -= c * rm
+    f[0] = f0
+    f[1] = f1
+    f[2] = f2
+    f[3] = f3
+    f[4] = f4
+    return total, n_loaded, flags

@@ -1,0 +1,214 @@
+"""The high-speed ball (fastbearing/high_speed.py; docs/model.md, "High speed"): zero speed is the paper's
+model, Kb is df/dq with the balls re-settled, every ball is in equilibrium, an independent slow reference
+written from Harris's equations agrees, the physics trends hold, and bad input is refused."""
+
+import math
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+from scipy.optimize import fsolve
+
+import fastbearing as fb
+from fastbearing import high_speed as hs
+from fastbearing.contacts import ball_contacts
+from fastbearing.geometry import Geometry
+from fastbearing.kernel import ball_loop, quasi_static_balls  # noqa: F401 (the loop the zero-speed test compares)
+
+DATA = Path(__file__).parent.parent / "data" / "bearings"
+SPINDLE = fb.load_bearing(DATA / "7014C-DB.toml")
+GEOMETRY = SPINDLE.geometry
+BALL_FILES = ("6305.toml", "3206.toml", "3208.toml", "3210.toml", "3306.toml", "3310.toml", "7014C-DB.toml")
+
+
+def _arrangements(geometry, preload=0.004):
+    """The geometry as a single row and in every double-row arrangement (DB, DF preloaded)."""
+    g = replace(geometry, row_spacing=geometry.row_spacing or 20.0)
+    preload = preload if g.diametral_clearance <= 0 else 0.0  # a preload needs no clearance
+    return {"single": g.bearing("single"), "DB": g.bearing("DB", axial_preload=preload),
+            "DF": g.bearing("DF", axial_preload=preload), "DT": g.bearing("DT")}
+
+
+def _q(rng, scale=0.01):
+    return np.array([scale, -0.6 * scale, 2.0 * scale, 2e-4, -3e-4]) * (1.0 + 0.2 * rng.standard_normal(5))
+
+
+@pytest.mark.parametrize("name", BALL_FILES)
+def test_the_high_speed_element_at_zero_speed_is_the_quasi_static_ball(name):
+    """spinning_balls itself (not the kernel's shortcut) at omega = 0, every arrangement: 1e-10."""
+    rng = np.random.default_rng(1)
+    for arrangement, b in _arrangements(fb.load_bearing(DATA / name).geometry).items():
+        for _ in range(3):
+            q = _q(rng)
+            f0, K0 = fb.stiffness(b, q)
+            f, K = np.empty(5), np.zeros((5, 5))
+            hs.spinning_balls(q, b.ball_table(), b.speed_table, 0.0, 0.0, f, K, None, None, None)
+            assert np.abs(f - f0).max() <= 1e-10 * np.abs(f0).max(), (name, arrangement)
+            assert np.abs(K - K0).max() <= 1e-10 * np.abs(K0).max(), (name, arrangement)
+
+
+def test_zero_speed_through_the_public_calls_is_the_paper_model_exactly():
+    f = (800.0, -300.0, 1500.0, 2000.0, -5000.0)
+    a, b = fb.solve(SPINDLE, f), fb.solve(SPINDLE, f, speed=0.0)
+    assert np.array_equal(a.q, b.q) and np.array_equal(a.K, b.K)
+    many = fb.solve_many(SPINDLE, [f, f], speed=[0.0, 0.0])
+    assert np.array_equal(many.K[0], a.K)
+
+
+@pytest.mark.parametrize("race_control,rotating", [("outer", "inner"), ("inner", "inner"), ("none", "inner"),
+                                                   ("outer", "outer")])
+def test_kb_at_speed_is_the_derivative_of_f_with_the_balls_resettled(race_control, rotating):
+    """All 25 entries against central differences of f(q), every arrangement, 8 000 and 25 000 rpm."""
+    rng = np.random.default_rng(2)
+    geometry = replace(GEOMETRY, race_control=race_control, rotating=rotating)
+    for arrangement, b in _arrangements(geometry).items():
+        for speed in (8000.0, 25000.0):
+            q = _q(rng)
+            f, K = fb.stiffness(b, q, speed=speed)
+            fd = np.empty((5, 5))
+            for j in range(5):
+                h = 1e-7 if j < 3 else 1e-9
+                e = np.zeros(5)
+                e[j] = h
+                fd[:, j] = (fb.stiffness(b, q + e, speed=speed)[0] - fb.stiffness(b, q - e, speed=speed)[0]) / (2 * h)
+            # columns of tilts scaled by the pitch radius: every entry compared in N/mm
+            scale = np.array([1, 1, 1, 45.0, 45.0])
+            err = np.abs((K - fd) * scale[None, :] / scale[:, None]).max()
+            assert err <= 2e-6 * np.abs(K * scale[None, :] / scale[:, None]).max(), (arrangement, speed, err)
+
+
+def test_every_ball_is_in_equilibrium_at_the_solution():
+    for speed in (5000.0, 15000.0, 30000.0):
+        r = fb.solve(SPINDLE, (1000.0, 500.0, 2000.0, 10000.0, 0.0), speed=speed)
+        assert r.converged
+        c = ball_contacts(SPINDLE, r.q, speed=speed)
+        assert c.equilibrium_residual.max() <= 1e-10  # settled to 1e-13, or the rounding floor of the lightest
+        # and the ring's load is the balls' inner contacts (with no inner friction under outer control)
+        assert np.all(c.inner_load >= 0) and np.all(c.outer_load > 0)
+
+
+def _harris_ball(A1, A2, p, omega):
+    """One ball by Harris's equations (Advanced Concepts, ch. 3) in his variables X1 (axial), X2 (radial),
+    delta_i, delta_o, solved with scipy, outer-raceway control, outer ring fixed: written from the
+    textbook's form, with atan2 angles and explicit beta, sharing no code with the kernel."""
+    ri, ro, Ki, Ko, mass_radius, inertia, gamma = (p[hs.INNER_RADIUS], p[hs.OUTER_RADIUS], p[hs.K_INNER],
+                                                   p[hs.K_OUTER], p[hs.MASS_RADIUS], p[hs.INERTIA], p[hs.GAMMA])
+    D = p[hs.DIAMETER]
+
+    def parts(x):
+        X1, X2, di, do = x
+        sin_o, cos_o = X1 / (ro + do), X2 / (ro + do)
+        sin_i, cos_i = (A1 - X1) / (ri + di), (A2 - X2) / (ri + di)
+        a_i, a_o = math.atan2(sin_i, cos_i), math.atan2(sin_o, cos_o)
+        beta = math.atan2(sin_o, cos_o + gamma)
+        om = omega * (1 - gamma * math.cos(a_i)) / (1 + math.cos(a_i - a_o))
+        oR = -omega / (((math.cos(a_o) + math.tan(beta) * math.sin(a_o)) / (1 + gamma * math.cos(a_o))
+                        + (math.cos(a_i) + math.tan(beta) * math.sin(a_i)) / (1 - gamma * math.cos(a_i)))
+                       * gamma * math.cos(beta))
+        Mg = inertia * oR * om * math.sin(beta)
+        Fc = mass_radius * om * om
+        Qi, Qo = Ki * max(di, 0) ** 1.5, Ko * max(do, 0) ** 1.5
+        return sin_i, cos_i, sin_o, cos_o, Qi, Qo, Mg, Fc
+
+    def eqs(x):
+        X1, X2, di, do = x
+        sin_i, cos_i, sin_o, cos_o, Qi, Qo, Mg, Fc = parts(x)
+        return [(A1 - X1) ** 2 + (A2 - X2) ** 2 - (ri + di) ** 2, X1 ** 2 + X2 ** 2 - (ro + do) ** 2,
+                Qi * sin_i - Qo * sin_o + 2 * Mg / D * cos_o,
+                Qi * cos_i - Qo * cos_o - 2 * Mg / D * sin_o + Fc]
+
+    A = math.hypot(A1, A2)
+    d = max(A - ri - ro, 1e-4)
+    x0 = [ro / A * A1, (ro + d / 2) / A * A2, d / 2, d / 2 + 1e-4]
+    x = fsolve(eqs, x0, xtol=1e-13)
+    sin_i, cos_i, sin_o, cos_o, Qi, Qo, Mg, Fc = parts(x)
+    return Qi * cos_i, Qi * sin_i, math.degrees(math.atan2(sin_i, cos_i)), math.degrees(math.atan2(sin_o, cos_o))
+
+
+def test_the_kernel_agrees_with_harris_equations_solved_by_scipy():
+    """A single row under a combined load at 20 000 rpm: every ball's inner contact force and both
+    contact angles, and the ring's f, from the slow reference (Harris's X1, X2, delta_i, delta_o form)."""
+    b = replace(GEOMETRY, row_spacing=None).bearing("single")
+    speed = 20000.0
+    omega = speed * math.pi / 30
+    q = np.array([0.004, 0.0, 0.02, 0.0, 0.0])
+    table, p_all = b.ball_table(), b.speed_table
+    f_ref = np.zeros(3)
+    c = ball_contacts(b, q, speed=speed)
+    for j in range(b.n_balls):
+        cpsi, spsi = table[0, j], table[1, j]
+        A2 = q[0] * cpsi + q[1] * spsi + table[4, j]
+        A1 = q[2] + table[5, j]
+        Fr, Fa, ai, ao = _harris_ball(A1, A2, p_all[:, j], omega)
+        f_ref += (Fr * cpsi, Fr * spsi, Fa)
+        assert math.degrees(c.inner_contact_angle[j]) == pytest.approx(ai, abs=1e-7)
+        assert math.degrees(c.outer_contact_angle[j]) == pytest.approx(ao, abs=1e-7)
+    f, _ = fb.stiffness(b, q, speed=speed)
+    assert np.allclose(f[:3], f_ref, rtol=1e-8, atol=1e-8 * np.abs(f_ref).max())
+
+
+def test_orbital_speed_reduces_to_the_cage_speed_and_centrifugal_force_to_half_m_dm_omega_squared():
+    """With equal angles the kinematics give omega_m = omega/2 (1 - D cos a/dm) (outer ring fixed) and
+    F_c = 0.5 m dm omega_m^2 with m = rho pi D^3/6."""
+    p = SPINDLE.speed_table[:, 0]
+    a = math.radians(20.0)
+    omega = 1000.0
+    wm, *_ , S, _, _, _, _ = hs.kinematics(math.cos(a), math.sin(a), math.cos(a), math.sin(a), omega, 0.0,
+                                           p[hs.GAMMA], False)
+    D, dm = GEOMETRY.ball_diameter, GEOMETRY.pitch_diameter
+    assert wm == pytest.approx(omega / 2 * (1 - D * math.cos(a) / dm), rel=1e-14)
+    mass = 7850 * math.pi * (D * 1e-3) ** 3 / 6
+    assert p[hs.MASS_RADIUS] * wm ** 2 == pytest.approx(0.5 * mass * dm * 1e-3 * wm ** 2, rel=1e-14)
+
+
+def _angles(b, f, speed):
+    r = fb.solve(b, f, speed=speed)
+    assert r.converged
+    c = ball_contacts(b, r.q, speed=speed)
+    return r, c.inner_contact_angle.mean(), c.outer_contact_angle.mean()
+
+
+def test_with_speed_the_outer_angle_falls_the_inner_rises_and_a_row_softens():
+    """Single row under a fixed axial load: alpha_o falls and alpha_i rises with speed, kzz and kxx fall;
+    silicon-nitride balls (lighter) soften less than steel."""
+    steel = replace(GEOMETRY, row_spacing=None).bearing("single")
+    hybrid = replace(GEOMETRY, row_spacing=None, ball_density=3200.0).bearing("single")
+    load = (0.0, 0.0, 1000.0, 0.0, 0.0)
+    last = None
+    for speed in (1.0, 6000.0, 12000.0, 18000.0):
+        r, ai, ao = _angles(steel, load, speed)
+        if last is not None:
+            assert ai > last[1] and ao < last[2]
+            assert r.K[2, 2] < last[0].K[2, 2] and r.K[0, 0] < last[0].K[0, 0]
+        last = (r, ai, ao)
+    assert fb.solve(hybrid, load, speed=18000.0).K[2, 2] > last[0].K[2, 2]
+
+
+def test_the_preloaded_spindle_pair_loses_radial_stiffness_with_speed():
+    """The shipped DB pair under a radial load: kxx and kyy fall from rest to 24 000 rpm. (Its kzz rises:
+    the fixed-position preload grows as the balls are wedged outward; see the README.)"""
+    load = (1000.0, 0.0, 0.0, 0.0, 0.0)
+    k = [np.diag(fb.solve(SPINDLE, load, speed=s).K) for s in (0.0, 12000.0, 24000.0)]
+    assert k[0][0] > k[1][0] > k[2][0] and k[0][1] > k[1][1] > k[2][1]
+
+
+def test_bad_speed_input_is_refused_naming_the_field():
+    f = (0, 0, 1000.0, 0, 0)
+    for bad in (-1.0, math.nan, math.inf, "fast"):
+        with pytest.raises(ValueError, match="speed"):
+            fb.solve(SPINDLE, f, speed=bad)
+    with pytest.raises(ValueError, match=r"speed.*geometry"):
+        fb.solve(fb.Bearing.preset("gunduz2013"), f, speed=1000.0)
+    with pytest.raises(ValueError, match=r"speed.*roller"):
+        fb.solve(fb.load_bearing(DATA / "NU205.toml"), (1000.0, 0, 0, 0, 0), speed=1000.0)
+    with pytest.raises(ValueError, match=r"speed\[1\]"):
+        fb.solve_many(SPINDLE, [f, f], speed=[0.0, -5.0])
+    with pytest.raises(ValueError, match="ball_density"):
+        replace(GEOMETRY, ball_density=0.0)
+    with pytest.raises(ValueError, match="race_control"):
+        replace(GEOMETRY, race_control="cage")
+    with pytest.raises(ValueError, match="rotating"):
+        replace(GEOMETRY, rotating="both")
+    # at zero speed a bearing without geometry is fine
+    assert fb.solve(fb.Bearing.preset("gunduz2013"), f, speed=0.0).converged
