@@ -103,8 +103,11 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--life", action="store_true", help="also the rating life (needs [bearing.geometry]): C, P, "
                    "L10 (ISO 281) and L10r (ISO/TS 16281, from the load distribution) per row and for the "
                    "bearing, in million revolutions; static safety S0")
-    p.add_argument("--speed", type=float, metavar="RPM", help="shaft speed in rpm (> 0): lives also in hours "
-                   "(the stiffness stays quasi-static)")
+    p.add_argument("--speed", type=float, metavar="RPM", default=0.0,
+                   help="shaft speed in rpm (default 0): above 0 the high-speed model (centrifugal force, "
+                   "gyroscopic moment; needs [bearing.geometry]) and, with --balls, each ball's inner and outer "
+                   "contact angle (rad) and load (N), centrifugal force (N), gyroscopic moment (N*mm) and "
+                   "orbital speed (rad/s); with --life, lives also in hours")
     p.add_argument("--rotating", choices=["inner", "outer"], default="inner",
                    help="the ring rotating relative to the load, for --life (default inner)")
     p.add_argument("--kappa", type=float, metavar="K", help="viscosity ratio kappa in [0.1, 4] for --life: "
@@ -648,6 +651,16 @@ def _balls_text(records: list[dict]) -> str:
             line += (f" {r['inner_max_pressure']:10.1f} {r['inner_semi_major']:9.4f} {r['inner_semi_minor']:9.4f}"
                      f" {r['outer_max_pressure']:10.1f} {r['outer_semi_major']:9.4f} {r['outer_semi_minor']:9.4f}")
         lines.append(line)
+    if records and "outer_load" in records[0]:
+        lines += ["balls at speed (Q, alpha above: the inner contact; the outer contact's alpha_o and Q_o, "
+                  "centrifugal force F_c, gyroscopic moment M_g, orbital speed omega_m):",
+                  f"{'row':>3s} {'ball':>4s} {'alpha_i(deg)':>12s} {'alpha_o(deg)':>12s} {'Q_i(N)':>11s} "
+                  f"{'Q_o(N)':>11s} {'F_c(N)':>10s} {'M_g(N*mm)':>10s} {'omega_m(rad/s)':>14s}"]
+        for r in records:
+            lines.append(f"{r['row']:3d} {r['ball']:4d} {math.degrees(r['inner_contact_angle']):12.4f} "
+                         f"{math.degrees(r['outer_contact_angle']):12.4f} {r['inner_load']:11.6g} "
+                         f"{r['outer_load']:11.6g} {r['centrifugal_force']:10.4g} {r['gyroscopic_moment']:10.4g} "
+                         f"{r['orbital_speed']:14.6g}")
     return "\n".join(lines)
 
 
@@ -671,7 +684,8 @@ def _rollers_text(records: list[dict]) -> str:
 def _table(result: dict) -> str:
     labels = ("x", "y", "z", "tx", "ty")
     K = np.asarray(result["K"])
-    lines = [f"status: {result['status']}  iterations: {result['iterations']}  residual: {result['residual']:.2e}",
+    lines = [f"status: {result['status']}  iterations: {result['iterations']}  residual: {result['residual']:.2e}"
+             + (f"  speed: {result['speed']:g} rpm (high-speed model)" if result.get("speed") else ""),
              "q (mm, mm, mm, rad, rad): " + "  ".join(f"{n}={v:.6g}" for n, v in zip(DISPLACEMENT_NAMES, result["q"])),
              "f (N, N, N, N*mm, N*mm): " + "  ".join(f"{n}={v:.6g}" for n, v in zip(LOAD_NAMES, result["f"])),
              "Kb (" + _K_UNITS + "):",
@@ -687,28 +701,29 @@ def _table(result: dict) -> str:
 
 def _solve(args) -> int:
     bearing = _bearing(args)
-    if not args.life and (args.speed is not None or args.kappa is not None or args.rotating != "inner"
-                          or args.contamination != 1.0):
-        raise ValueError("--speed, --rotating, --kappa and --contamination go with --life")
+    if not args.life and (args.kappa is not None or args.rotating != "inner" or args.contamination != 1.0):
+        raise ValueError("--rotating, --kappa and --contamination go with --life")
+    speed = _speed_option(args.speed, bearing)
     settings = None
     if args.life:
         from .life import LifeSettings, ratings
 
-        settings = LifeSettings(rotating=args.rotating, speed=args.speed, kappa=args.kappa,
-                                contamination=args.contamination)
+        settings = LifeSettings(rotating=args.rotating, speed=speed or None, kappa=args.kappa,
+                                contamination=args.contamination, balls_at_speed=speed > 0)
         ratings(bearing)  # a bearing without geometry is refused before the solve
     if args.load is not None:
-        result = solve(bearing, _five_numbers(args.load, "--load"), method=args.method).to_dict()
+        result = solve(bearing, _five_numbers(args.load, "--load"), method=args.method, speed=speed).to_dict()
     else:
         q = _five_numbers(args.displacement, "--displacement")
         try:
-            f, K = stiffness(bearing, q)
+            f, K = stiffness(bearing, q, speed=speed)
         except ValueError:
             raise ValueError(f"--displacement {args.displacement} is too large: f or Kb overflow float64") from None
         result = {"q": [float(v) for v in q], "f": f.tolist(), "K": K.tolist(), "status": "direct",
                   "converged": True, "iterations": 0, "residual": 0.0}
+    result["speed"] = speed
     if args.balls:
-        result["balls"] = ball_contacts(bearing, result["q"]).to_records()[:bearing.n_balls]
+        result["balls"] = ball_contacts(bearing, result["q"], speed).to_records()[:bearing.n_balls]
         if bearing.roller_rows:
             from .contacts import roller_contacts
 
@@ -718,8 +733,6 @@ def _solve(args) -> int:
 
         result["life"] = life(bearing, result["f"] if args.load is None else _five_numbers(args.load, "--load"),
                               result["q"], settings).to_dict()
-        if args.speed is not None:
-            result["speed"] = args.speed
     if args.json:
         print(json_text(result))
     else:
@@ -731,6 +744,20 @@ def _solve(args) -> int:
         if "life" in result:
             print(_life_text(result["life"]))
     return 0 if result["converged"] else 1
+
+
+def _speed_option(value, bearing) -> float:
+    """--speed in rpm, checked before any kernel runs (finite, >= 0; above 0 only for a bearing the
+    high-speed model can take)."""
+    from .bearing import check_speed, check_speed_model
+
+    try:
+        speed = check_speed(value, "--speed")
+        if speed > 0:
+            check_speed_model(bearing)
+    except ValueError as err:
+        raise ValueError(str(err).replace("speed above", "--speed above", 1)) from None
+    return speed
 
 
 def _life_text(life: dict) -> str:

@@ -340,12 +340,17 @@ class LifeSettings:
         Viscosity ratio kappa = nu/nu1 of the lubricant, in [0.1, 4] (ISO 281 clamps beyond).
     contamination : float
         Contamination factor e_C in [0, 1] (1: very clean).
+    balls_at_speed : bool
+        The displacement was solved with the high-speed model at ``speed`` (solve --speed): the races'
+        ball loads then differ, and each ring's equivalent load comes from its own contacts (inner Q_i,
+        outer Q_o, fastbearing.high_speed).
     """
 
     rotating: str = "inner"
     speed: float | None = None
     kappa: float | None = None
     contamination: float = 1.0
+    balls_at_speed: bool = False
 
     def __post_init__(self):
         validate.choice(self.rotating, "rotating", ROTATING)
@@ -593,11 +598,15 @@ def _ball_lives(bearing, q, r: BearingRatings, settings: LifeSettings):
     """Rows' L10r, equivalent contact loads Q_ei, Q_ee and the largest contact pressure, ball rows."""
     from .contacts import ball_contacts
 
-    contacts = ball_contacts(bearing, q)          # one kernel evaluation: loads and pressures
-    Q = contacts.load
+    at_speed = settings.balls_at_speed and bool(settings.speed)
+    contacts = ball_contacts(bearing, q, settings.speed if at_speed else 0.0)  # one evaluation: loads, pressures
+    inner = outer = contacts.load
+    if at_speed:  # each ring its own contacts: the centrifugal force loads the outer race more
+        inner, outer = contacts.inner_load, contacts.outer_load
+    rotating, standing = (inner, outer) if settings.rotating == "inner" else (outer, inner)
     rows = bearing.ball_table()[ROW].astype(int)
-    cube = np.bincount(rows, Q ** 3, minlength=bearing.n_rows)
-    ten = np.bincount(rows, Q ** (10.0 / 3.0), minlength=bearing.n_rows)
+    cube = np.bincount(rows, rotating ** 3, minlength=bearing.n_rows)
+    ten = np.bincount(rows, standing ** (10.0 / 3.0), minlength=bearing.n_rows)
     L_rows = row_life(r.Q_ci, r.Q_ce, cube, ten, r.n_balls, settings.rotating)
     mean3, mean10 = (cube / r.n_balls) ** (1 / 3), (ten / r.n_balls) ** 0.3
     Q_ei, Q_ee = (mean3, mean10) if settings.rotating == "inner" else (mean10, mean3)

@@ -13,8 +13,6 @@ from scipy.optimize import fsolve
 import fastbearing as fb
 from fastbearing import high_speed as hs
 from fastbearing.contacts import ball_contacts
-from fastbearing.geometry import Geometry
-from fastbearing.kernel import ball_loop, quasi_static_balls  # noqa: F401 (the loop the zero-speed test compares)
 
 DATA = Path(__file__).parent.parent / "data" / "bearings"
 SPINDLE = fb.load_bearing(DATA / "7014C-DB.toml")
