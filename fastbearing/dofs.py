@@ -24,6 +24,7 @@ UNITS_CONVENTION = "N, mm, rad; moments N*mm; stiffness N/mm, N*mm/rad, N/rad"
 AXES = {"load": LOAD_NAMES, "displacement": DISPLACEMENT_NAMES}
 UNITS = {"load": LOAD_UNITS, "displacement": DISPLACEMENT_UNITS}
 LONG_NAMES = {
+    "speed": "shaft speed",
     "Fx": "radial force x on the inner ring", "Fy": "radial force y on the inner ring",
     "Fz": "axial force on the inner ring", "Mx": "moment about x on the inner ring",
     "My": "moment about y on the inner ring",

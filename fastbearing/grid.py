@@ -71,10 +71,29 @@ class CaseSet:
     axes: tuple[Axis, ...] = ()
     table: np.ndarray | None = None
     table_dim: str = "case"
+    #: Shaft speed in rpm: an axis placed before the load axes (grids), or a table's sixth column
+    #: (``table`` (N, 6)); None: no speed (the quasi-static model, and no speed coordinate in the file).
+    speed: Axis | None = None
+
+    @property
+    def all_axes(self) -> tuple[Axis, ...]:
+        """The speed axis (when given), then the five inputs: the order of the grid's dimensions."""
+        return ((self.speed,) if self.speed is not None else ()) + self.axes
+
+    @property
+    def has_speed(self) -> bool:
+        return self.speed is not None or (self.table is not None and self.table.shape[1] == 6)
+
+    @property
+    def max_speed(self) -> float:
+        """The largest shaft speed of the cases, rpm (0 without speed)."""
+        if self.table is not None:
+            return float(self.table[:, 5].max()) if self.table.shape[1] == 6 else 0.0
+        return float(self.speed.values.max()) if self.speed is not None else 0.0
 
     @property
     def dims(self) -> tuple[Axis, ...]:
-        return tuple(a for a in self.axes if a.is_dim) if self.table is None else ()
+        return tuple(a for a in self.all_axes if a.is_dim) if self.table is None else ()
 
     @property
     def shape(self) -> tuple[int, ...]:
@@ -105,13 +124,15 @@ class CaseSet:
         return 1 if self.table is not None or not self.dims else self.shape[-1]
 
     def inputs(self, start: int, stop: int) -> np.ndarray:
-        """(stop - start, 5) inputs of the flat case range, C order over the grid."""
+        """(stop - start, 5) inputs of the flat case range, C order over the grid; (stop - start, 6) with
+        the shaft speed (rpm) last when the case set has speed."""
         if self.table is not None:
             return np.ascontiguousarray(self.table[start:stop])
-        out = np.empty((stop - start, 5))
+        out = np.empty((stop - start, 6 if self.speed is not None else 5))
         index = np.unravel_index(np.arange(start, stop), self.shape) if self.dims else ()
         k = 0
-        for d, axis in enumerate(self.axes):
+        columns = ([5] if self.speed is not None else []) + list(range(5))
+        for d, axis in zip(columns, self.all_axes):
             if axis.is_dim:
                 out[:, d] = axis.values[index[k]]
                 k += 1
@@ -121,7 +142,8 @@ class CaseSet:
 
 
 def read_case_file(path: Path, where: str) -> np.ndarray:
-    """N x 5 cases from .npy, .csv (comma separated, optional header line) or .h5 (dataset ``cases``).
+    """N x 5 cases from .npy, .csv (comma separated, optional header line) or .h5 (dataset ``cases``);
+    N x 6 when a sixth column gives each case's shaft speed (rpm, >= 0).
 
     Plain real numbers only: a structured, complex, text or boolean table is refused, as is anything
     not finite. ValueError names the field and the file.
@@ -156,12 +178,16 @@ def read_case_file(path: Path, where: str) -> np.ndarray:
     if table.dtype.kind not in "iuf":
         raise ValueError(f"{where}: {path} must hold real numbers, got {table.dtype} values")
     table = table.astype(np.float64)
-    if table.ndim != 2 or table.shape[1] != 5 or table.shape[0] < 1:
-        raise ValueError(f"{where}: {path} must hold an N x 5 table with N >= 1, got shape {table.shape}")
+    if table.ndim != 2 or table.shape[1] not in (5, 6) or table.shape[0] < 1:
+        raise ValueError(f"{where}: {path} must hold an N x 5 table (or N x 6 with the speed in rpm last) with "
+                         f"N >= 1, got shape {table.shape}")
     bad = ~np.isfinite(table)
     if bad.any():
         i, j = np.argwhere(bad)[0]
         raise ValueError(f"{where}: {path} case {i} column {j} is not finite ({table[i, j]!r})")
+    if table.shape[1] == 6 and (table[:, 5] < 0).any():
+        i = int(np.flatnonzero(table[:, 5] < 0)[0])
+        raise ValueError(f"{where}: {path} case {i} speed (column 5) must be >= 0 rpm, got {table[i, 5]!r}")
     return np.ascontiguousarray(table)
 
 

@@ -109,12 +109,14 @@ def case_coordinates(cases: CaseSet):
     if cases.table is not None:
         case_dims = [C(dim, np.arange(cases.n_cases), "1", f"{dim} number")]
         aux = [(C(n, cases.table[:, i], u, LONG_NAMES[n]), dim) for i, (n, u) in enumerate(zip(names, units))]
+        if cases.has_speed:
+            aux.append((C("speed", cases.table[:, 5], "rpm", LONG_NAMES["speed"]), dim))
         return case_dims, [], aux
     if cases.dims:
         case_dims = [C(a.name, a.values, a.units, LONG_NAMES[a.name]) for a in cases.dims]
     else:
         case_dims = [C(dim, np.arange(1), "1", f"the single {dim}")]
-    scalars = [C(a.name, a.values, a.units, LONG_NAMES[a.name], False) for a in cases.axes if not a.is_dim]
+    scalars = [C(a.name, a.values, a.units, LONG_NAMES[a.name], False) for a in cases.all_axes if not a.is_dim]
     return case_dims, scalars, []
 
 

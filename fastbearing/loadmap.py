@@ -17,7 +17,7 @@ import numpy as np
 
 from . import jobs, storage, validate
 from .api import solver_settings
-from .bearing import Bearing
+from .bearing import Bearing, check_speed, check_speed_model
 from .bearing_file import read_job_config
 from .dofs import AXES, UNITS
 from .grid import Axis, CaseSet, parse_axis, read_case_file, segment_starts
@@ -28,7 +28,7 @@ from .sweep import map_sweep
 DEFAULT_CHUNK = 65536
 #: Largest block: one block's results are in memory at once (about 400 bytes a case).
 MAX_CHUNK = 4_000_000
-_LOADMAP_KEYS = {"given", "cases", "chunk", "compression", "method", "rtol", "max_iter", "life"}
+_LOADMAP_KEYS = {"given", "cases", "chunk", "compression", "method", "rtol", "max_iter", "life", "speed"}
 
 
 @dataclass(frozen=True)
@@ -84,7 +84,7 @@ def read_config(config) -> LoadMapConfig:
         raise err.within("loadmap") from None
     digest = hashlib.sha256(text.encode())
     if "cases" in spec:
-        axes_given = [k for k in spec if k in names]
+        axes_given = [k for k in spec if k in names or k == "speed"]
         if axes_given:
             raise ValueError(f"loadmap.cases replaces the grid axes; remove {axes_given}")
         if not isinstance(spec["cases"], str):
@@ -100,25 +100,46 @@ def read_config(config) -> LoadMapConfig:
         for name, units in zip(names, UNITS[given]):
             values, is_dim = parse_axis(name, spec.get(name, 0.0), "loadmap")
             axes.append(Axis(name, values, units, is_dim))
-        cases = CaseSet(given, axes=tuple(axes))
+        speed = None
+        if "speed" in spec:
+            values, is_dim = parse_axis("speed", spec["speed"], "loadmap")
+            for i, v in enumerate(values):
+                check_speed(v, f"loadmap.speed[{i}]" if is_dim else "loadmap.speed")
+            speed = Axis("speed", values, "rpm", is_dim)
+        cases = CaseSet(given, axes=tuple(axes), speed=speed)
     cases.check_size("loadmap")
+    if cases.max_speed > 0:
+        try:
+            check_speed_model(bearing)
+        except validate.FieldError as err:
+            raise err.within("loadmap") from None
     life_settings = read_life(spec.get("life"), "loadmap.life")
+    if life_settings is not None and cases.max_speed > 0:
+        raise validate.FieldError("loadmap.life", "is not available in load maps at speed above 0 rpm yet (the "
+                                  "map's record keeps the inner contacts only); use solve --life --speed per "
+                                  "operating point", show_value=False)
     if life_settings is not None:
         ratings(bearing)  # a bearing without geometry has no rating: said before anything runs
     return LoadMapConfig(bearing, cases, chunk, compression, method, rtol, max_iter, text, source,
                          digest.hexdigest(), life_settings)
 
 
-def compute_block(bearing: Bearing, given_load: bool, line_length: int, settings, life, inputs: np.ndarray,
-                  res: dict, first: int, stop: np.ndarray) -> None:
+def compute_block(bearing: Bearing, given_load: bool, line_length: int, settings, life, spinning: bool,
+                  inputs: np.ndarray, res: dict, first: int, stop: np.ndarray) -> None:
     """Fill the result arrays ``res`` (one block's, see :func:`variables`) for ``inputs`` (n, 5), the
     flat cases from ``first`` on; ``stop[0] != 0`` (Ctrl-C) ends it early, leaving the block incomplete.
 
     The work unit of a map: local runs and Dask workers both call it, on the
     same blocks, which is why their outputs are identical bit for bit.
-    ``life``: None, or (LifeSettings, BearingRatings) for the life variables.
+    ``life``: None, or (LifeSettings, BearingRatings) for the life variables. ``spinning``: some case of
+    the map runs above 0 rpm (inputs (n, 6), the speed last): every block takes the high-speed ball set
+    (one compiled sweep for the map; a case at 0 rpm is the quasi-static model exactly).
     """
-    balls = bearing.ball_set()
+    balls, speeds = bearing.ball_set(), np.zeros(0)
+    if inputs.shape[1] == 6:  # the shaft speed (rpm) per case
+        if spinning:
+            balls, speeds = bearing.ball_set(speed=0.0), inputs[:, 5] * (np.pi / 30.0)
+        inputs = np.ascontiguousarray(inputs[:, :5])
     ball_row = bearing.element_rows
     segments = segment_starts(first, first + inputs.shape[0], line_length)
     if life is None:
@@ -129,7 +150,7 @@ def compute_block(bearing: Bearing, given_load: bool, line_length: int, settings
         L10r, L10r_row, safety = res["L10r"], res["L10r_row"], res["static_safety"]
     map_sweep(inputs, given_load, segments, res["q"], res["f"], res["K"], res["status"], res["iterations"],
               res["residual"], res["max_ball_load"], res["loaded_balls"], res["min_contact_angle"],
-              res["max_contact_angle"], balls, ball_row, settings, stop, table, C0, L10r, L10r_row, safety)
+              res["max_contact_angle"], balls, speeds, ball_row, settings, stop, table, C0, L10r, L10r_row, safety)
 
 
 def job(cfg: LoadMapConfig) -> jobs.Job:
@@ -151,7 +172,8 @@ def job(cfg: LoadMapConfig) -> jobs.Job:
         kind="load map", bearing=cfg.bearing, cases=cfg.cases,
         variables=tuple(variables), attrs=attrs,
         sizes={"dof": 5, "dof_col": 5, "row": cfg.bearing.n_rows},
-        compute=partial(compute_block, cfg.bearing, given_load, cfg.cases.line_length, settings, life),
+        compute=partial(compute_block, cfg.bearing, given_load, cfg.cases.line_length, settings, life,
+                        cfg.cases.max_speed > 0),
         settings=settings, method=cfg.method, chunk=cfg.chunk, text=cfg.text, source=cfg.source,
         fingerprint=cfg.fingerprint, compression=cfg.compression, line_length=cfg.cases.line_length,
         kernel="sweep.map_sweep")

@@ -249,10 +249,11 @@ def tangent_predictor(given_load, target, q_prev, f_prev, K_prev, q, scratch):
 
 @njit(parallel=True, cache=CACHE, error_model=ERROR_MODEL, nogil=True)
 def map_sweep(inputs, given_load, segments, q, f, K, status, iterations, residual, max_load, n_loaded,
-              min_angle, max_angle, balls, ball_row, settings, stop, life, C0, L10r, L10r_row, safety):
+              min_angle, max_angle, balls, speeds, ball_row, settings, stop, life, C0, L10r, L10r_row, safety):
     """One block of a load or displacement map, in place.
 
-    ``balls`` is the bearing's ball set. ``inputs`` (N, 5) are loads (N, N*mm) when ``given_load`` else
+    ``balls`` is the bearing's ball set; with a speed table, case i runs at ``speeds[i]`` rad/s
+    (:func:`at_speed`). ``inputs`` (N, 5) are loads (N, N*mm) when ``given_load`` else
     displacements (mm, rad). ``segments`` (grid.segment_starts) cuts the
     block into continuation runs along the fastest grid axis: each run
     starts cold and each later case starts from its neighbour's converged q
@@ -286,7 +287,8 @@ def map_sweep(inputs, given_load, segments, q, f, K, status, iterations, residua
                 if warm:
                     tangent_predictor(given_load, inputs[i], q[i - 1], f[i - 1], K[i - 1], q[i], predictor)
                 status[i], iterations[i], residual[i] = operating_point(
-                    given_load, inputs[i], warm, q[i], f[i], K[i], balls, settings, work, ball_load, contact_angle)
+                    given_load, inputs[i], warm, q[i], f[i], K[i], at_speed(balls, speeds, i), settings, work,
+                    ball_load, contact_angle)
                 row_summary(ball_load, contact_angle, ball_row, max_load[i], n_loaded[i], min_angle[i],
                             max_angle[i])
                 if want_life:

@@ -210,3 +210,75 @@ def test_bad_speed_input_is_refused_naming_the_field():
         replace(GEOMETRY, rotating="both")
     # at zero speed a bearing without geometry is fine
     assert fb.solve(fb.Bearing.preset("gunduz2013"), f, speed=0.0).converged
+
+
+SPINDLE_MAP = Path(__file__).parent.parent / "data" / "examples" / "spindle-7014-speed.toml"
+
+
+def _spindle_config(**loadmap):
+    from fastbearing.bearing_file import read_toml
+
+    doc = read_toml(SPINDLE_MAP)
+    doc["loadmap"] = {"given": "load", **loadmap}
+    return doc
+
+
+def test_a_load_map_over_speed_puts_speed_first_and_matches_single_solves(tmp_path):
+    import h5py
+
+    cfg = _spindle_config(speed=[0.0, 15000.0], Fx=500.0, Fz={"start": 200.0, "stop": 1000.0, "num": 5})
+    out = fb.loadmap(cfg, tmp_path / "m.h5", progress=False)
+    with h5py.File(out) as fh:
+        assert fh["K"].shape == (2, 5, 5, 5) and fh["speed"].attrs["units"] == "rpm"
+        assert list(fh["speed"][()]) == [0.0, 15000.0]
+        assert (fh["status"][()] == 0).all()
+        K = fh["K"][()]
+    for i, speed in enumerate((0.0, 15000.0)):
+        r = fb.solve(SPINDLE, (500.0, 0.0, 600.0, 0.0, 0.0), speed=speed)
+        assert np.allclose(K[i, 2], r.K, rtol=1e-8, atol=1e-8 * np.abs(r.K).max())
+
+
+def test_a_map_at_zero_speed_is_the_quasi_static_map_and_threads_do_not_matter(tmp_path):
+    import h5py
+
+    grid = dict(Fx={"start": 0.0, "stop": 1000.0, "num": 3}, Fz={"start": 100.0, "stop": 900.0, "num": 4})
+    plain = fb.loadmap(_spindle_config(**grid), tmp_path / "a.h5", progress=False)
+    zero = fb.loadmap(_spindle_config(speed=0.0, **grid), tmp_path / "b.h5", progress=False)
+    spun1 = fb.loadmap(_spindle_config(speed=[0.0, 20000.0], **grid), tmp_path / "c.h5", progress=False, threads=1)
+    spun2 = fb.loadmap(_spindle_config(speed=[0.0, 20000.0], **grid), tmp_path / "d.h5", progress=False, threads=2)
+    with h5py.File(plain) as a, h5py.File(zero) as b, h5py.File(spun1) as c, h5py.File(spun2) as d:
+        assert np.array_equal(a["K"][()], b["K"][()])
+        assert np.array_equal(a["K"][()], c["K"][0])  # the zero-speed slice of a spinning map
+        assert np.array_equal(c["K"][()], d["K"][()])
+
+
+def test_a_case_table_may_carry_the_speed_in_a_sixth_column(tmp_path):
+    import h5py
+
+    cases = np.array([[500.0, 0, 600.0, 0, 0, 0.0], [500.0, 0, 600.0, 0, 0, 15000.0]])
+    np.save(tmp_path / "cases.npy", cases)
+    cfg = _spindle_config(cases=str(tmp_path / "cases.npy"))
+    out = fb.loadmap(cfg, tmp_path / "t.h5", progress=False)
+    with h5py.File(out) as fh:
+        assert list(fh["speed"][()]) == [0.0, 15000.0]
+        K = fh["K"][()]
+    ref = fb.solve(SPINDLE, cases[1, :5], speed=15000.0).K
+    assert np.allclose(K[1], ref, rtol=1e-8, atol=1e-8 * np.abs(ref).max())
+    np.save(tmp_path / "bad.npy", cases * np.array([1, 1, 1, 1, 1, -1]))
+    with pytest.raises(ValueError, match="speed"):
+        fb.loadmap(_spindle_config(cases=str(tmp_path / "bad.npy")), tmp_path / "u.h5", progress=False)
+
+
+def test_bad_map_speeds_are_refused_before_anything_runs(tmp_path):
+    from fastbearing.bearing_file import read_toml
+
+    for bad in (-100.0, [0.0, math.inf], {"start": -1.0, "stop": 5.0, "num": 3}):
+        with pytest.raises(ValueError, match="loadmap.speed"):
+            fb.loadmap(_spindle_config(speed=bad, Fz=500.0), tmp_path / "x.h5", progress=False)
+    paper = read_toml(Path(__file__).parent.parent / "data" / "examples" / "gunduz2013-db-1M.toml")
+    paper["loadmap"] = {"given": "load", "Fz": 500.0, "speed": 1000.0}
+    with pytest.raises(ValueError, match=r"loadmap.*speed.*geometry"):
+        fb.loadmap(paper, tmp_path / "y.h5", progress=False)
+    with pytest.raises(ValueError, match="loadmap.life"):
+        fb.loadmap(_spindle_config(speed=1000.0, Fz=500.0, life=True), tmp_path / "z.h5", progress=False)
+    assert not any(tmp_path.iterdir())
