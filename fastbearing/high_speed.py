@@ -50,7 +50,7 @@ BALL_RTOL = 1e-13
 
 #: Fields of a ball's state record (solve --balls at speed): row j of an (n_balls, N_STATE) array.
 (STATE_INNER_LOAD, STATE_OUTER_LOAD, STATE_INNER_ANGLE, STATE_OUTER_ANGLE, STATE_CENTRIFUGAL, STATE_GYROSCOPIC,
- STATE_ORBITAL_SPEED, STATE_ITERATIONS, STATE_RESIDUAL) = range(9)
+ STATE_ORBITAL_SPEED, STATE_ITERATIONS, STATE_RESIDUAL) = range(9)  # iterations -1: a free ball
 N_STATE = 9
 
 
@@ -259,13 +259,15 @@ def settle_ball(ur, uz, p, w_i, w_o, smoothing_eps):
     """Newton on one ball's equilibrium g(B) = 0 from :func:`start_position`.
 
     Returns (state tuple of :func:`ball_state` at the solution, iterations, settled): a ball the rings
-    leave free returns settled with its state at the free position (Q_i = 0: nothing for the ring).
+    leave free returns iterations -1, settled, with its state at the free position (Q_i = 0: nothing for
+    the ring).
     """
     br, bz, loaded = start_position(ur, uz, p, w_i, w_o, smoothing_eps)
     st = ball_state(ur, uz, br, bz, p, w_i, w_o, smoothing_eps)
     if not loaded:
-        return st, 0, True
+        return st, -1, True
     reach = p[INNER_RADIUS] + p[OUTER_RADIUS] + abs(ur) + abs(uz)
+    ri = p[INNER_RADIUS]
     for it in range(BALL_ITERATIONS):
         g_r, g_z, a, b, c, d = st[0], st[1], st[2], st[3], st[4], st[5]
         if max(abs(g_r), abs(g_z)) <= _tolerance(st, reach):
@@ -280,7 +282,9 @@ def settle_ball(ur, uz, p, w_i, w_o, smoothing_eps):
         t = 1.0
         if shrink_o > 0.5 * st[35] + 1e-15 * reach:
             t = min(t, (0.5 * st[35] + 1e-15 * reach) / shrink_o)
-        if shrink_i > 0.5 * st[34] + 1e-15 * reach:
+        # ... except when the inner contact has all but opened (1e-6 of its reach): then the ball may leave
+        # it (its equilibrium on the outer race alone lies there), and Newton re-enters if it must
+        if shrink_i > 0.5 * st[34] + 1e-15 * reach and st[34] > 1e-6 * ri:
             t = min(t, (0.5 * st[34] + 1e-15 * reach) / shrink_i)
         step_r *= t
         step_z *= t
@@ -372,8 +376,10 @@ def spinning_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact_a
             states[j, STATE_GYROSCOPIC] = st[32]
             states[j, STATE_ORBITAL_SPEED] = st[33]
             states[j, STATE_ITERATIONS] = iterations
-            # the equilibrium residual relative to the ball's largest force (0 for a free ball)
-            states[j, STATE_RESIDUAL] = max(abs(st[0]), abs(st[1])) / max(st[25] + st[26] + abs(st[31]), 1e-300)
+            # the equilibrium residual relative to the ball's largest force (0 for a free ball: not solved,
+            # it carries nothing to the ring)
+            states[j, STATE_RESIDUAL] = 0.0 if iterations < 0 else (
+                max(abs(st[0]), abs(st[1])) / max(st[25] + st[26] + abs(st[31]), 1e-300))
         if not Qi > 0.0 and eps == 0.0:
             continue
         # back to the bearing's frame: the axial components take the row's sign

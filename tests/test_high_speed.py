@@ -282,3 +282,27 @@ def test_bad_map_speeds_are_refused_before_anything_runs(tmp_path):
     with pytest.raises(ValueError, match="loadmap.life"):
         fb.loadmap(_spindle_config(speed=1000.0, Fz=500.0, life=True), tmp_path / "z.h5", progress=False)
     assert not any(tmp_path.iterdir())
+
+
+def test_solve_on_the_command_line_at_speed_reports_every_ball(tmp_path):
+    import json
+
+    from conftest import cli_run
+
+    bearing = str(DATA / "7014C-DB.toml")
+    r = cli_run("solve", "--bearing", bearing, "--load", "500,0,1000,0,0", "--speed", "18000", "--balls", "--json")
+    assert r.returncode == 0, r.stderr
+    out = json.loads(r.stdout)
+    assert out["speed"] == 18000.0 and out["converged"]
+    ball = out["balls"][0]
+    for key in ("inner_contact_angle", "outer_contact_angle", "inner_load", "outer_load", "centrifugal_force",
+                "gyroscopic_moment", "orbital_speed"):
+        assert key in ball
+    assert ball["inner_contact_angle"] > ball["outer_contact_angle"] and ball["outer_load"] > ball["inner_load"]
+    text = cli_run("solve", "--bearing", bearing, "--load", "500,0,1000,0,0", "--speed", "18000", "--balls")
+    assert "speed: 18000 rpm (high-speed model)" in text.stdout and "alpha_o(deg)" in text.stdout
+    for bad in ("-5", "nan", "inf"):
+        r = cli_run("solve", "--bearing", bearing, "--load", "0,0,1000,0,0", "--speed", bad)
+        assert r.returncode == 2 and "--speed" in r.stderr and not r.stdout
+    r = cli_run("solve", "--preset", "gunduz2013", "--load", "0,0,1000,0,0", "--speed", "1000")
+    assert r.returncode == 2 and "geometry" in r.stderr

@@ -1,0 +1,49 @@
+"""High speed (issue 13): a load-given solve at speed against the quasi-static solve of the same bearing
+and loads, and a load map with a speed axis.
+
+Targets: a high-speed solve costs at most 6x a quasi-static one (solve_many over the same random loads,
+same process), and a high-speed map runs at >= 100 000 cases/s on 2 cores.
+"""
+
+import tomllib
+from pathlib import Path
+
+import numpy as np
+import pytest
+from conftest import random_loads
+
+import fastbearing as fb
+
+ROOT = Path(__file__).resolve().parents[1]
+SPINDLE = fb.load_bearing(ROOT / "data" / "bearings" / "7014C-DB.toml")
+#: Combined loads scaled to the spindle pair (Fx, Fy +-1.5 kN, Fz +-4 kN, moments +-50 N*m).
+LOADS = random_loads(2000, seed=3) * 0.5
+
+
+@pytest.mark.parametrize("speed", [0.0, 12000.0])
+@pytest.mark.benchmark(group="solve: 7014C-DB, 2000 random loads, cold, 1 thread (0 rpm: baseline)")
+def test_solve_at_speed(benchmark, speed):
+    fb.solve_many(SPINDLE, LOADS[:4], speed=speed, threads=1)
+    out = benchmark(fb.solve_many, SPINDLE, LOADS, speed=speed, threads=1)
+    assert out.converged.mean() > 0.99
+    if not benchmark.disabled:  # --benchmark-disable: a smoke run, no figures
+        benchmark.extra_info.update(us_per_case=benchmark.stats.stats.median / len(LOADS) * 1e6,
+                                    evaluations_per_case=float(np.mean(out.evaluations)))
+
+
+def speed_map(num_fz=41):
+    """The shipped example: 25 speeds x 3 radial loads x 41 axial loads (3075 cases)."""
+    doc = tomllib.loads((ROOT / "data" / "examples" / "spindle-7014-speed.toml").read_text())
+    doc["loadmap"]["Fz"] = {"start": 0.0, "stop": 2000.0, "num": num_fz}
+    return doc
+
+
+@pytest.mark.benchmark(group="load map: 7014C-DB over speed, 3075 cases, 2 threads")
+def test_speed_map(benchmark, tmp_path):
+    fb.loadmap(speed_map(2), tmp_path / "warm.h5", threads=2, progress=False)
+    counter = iter(range(100))
+    out = benchmark.pedantic(lambda: fb.loadmap(speed_map(), tmp_path / f"m{next(counter)}.h5", threads=2,
+                                                progress=False), rounds=3)
+    assert fb.open_dataset(out)["status"].size == 3075
+    if not benchmark.disabled:
+        benchmark.extra_info["cases_per_s"] = 3075 / benchmark.stats.stats.median
