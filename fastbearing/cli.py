@@ -703,12 +703,12 @@ def _solve(args) -> int:
     bearing = _bearing(args)
     if not args.life and (args.kappa is not None or args.rotating != "inner" or args.contamination != 1.0):
         raise ValueError("--rotating, --kappa and --contamination go with --life")
-    speed = _speed_option(args.speed, bearing)
+    speed, life_speed = _speed_option(args.speed, bearing, args.life)
     settings = None
     if args.life:
         from .life import LifeSettings, ratings
 
-        settings = LifeSettings(rotating=args.rotating, speed=speed or None, kappa=args.kappa,
+        settings = LifeSettings(rotating=args.rotating, speed=life_speed or None, kappa=args.kappa,
                                 contamination=args.contamination, balls_at_speed=speed > 0)
         ratings(bearing)  # a bearing without geometry is refused before the solve
     if args.load is not None:
@@ -746,18 +746,23 @@ def _solve(args) -> int:
     return 0 if result["converged"] else 1
 
 
-def _speed_option(value, bearing) -> float:
+def _speed_option(value, bearing, life: bool) -> tuple[float, float]:
     """--speed in rpm, checked before any kernel runs (finite, >= 0; above 0 only for a bearing the
-    high-speed model can take)."""
+    high-speed model can take): (the model's speed, the speed for lives in hours). A bearing with roller
+    rows runs quasi-statically and takes the speed for hours only (with --life; said on stderr)."""
     from .bearing import check_speed, check_speed_model
 
     try:
         speed = check_speed(value, "--speed")
+        if speed > 0 and bearing.roller_rows and life:
+            print("fastbearing: note: the high-speed model covers ball rows; this bearing has roller rows, so it "
+                  "is solved quasi-statically and --speed gives the lives in hours", file=sys.stderr)
+            return 0.0, speed
         if speed > 0:
             check_speed_model(bearing)
     except ValueError as err:
         raise ValueError(str(err).replace("speed above", "--speed above", 1)) from None
-    return speed
+    return speed, speed
 
 
 def _life_text(life: dict) -> str:

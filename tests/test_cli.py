@@ -23,7 +23,8 @@ def test_solve_json_matches_paper_table3_tandem():
                        capture_output=True, text=True, timeout=120)
     assert p.returncode == 0, p.stderr
     out = json.loads(p.stdout)
-    assert set(out) == {"q", "f", "K", "status", "converged", "iterations", "residual"}
+    assert set(out) == {"q", "f", "K", "status", "converged", "iterations", "residual", "speed"}
+    assert out["speed"] == 0.0  # rpm: the quasi-static model
     assert out["converged"] and out["status"].startswith("converged")
     diag = np.diag(np.array(out["K"])) / [1e3, 1e3, 1e3, 1e6, 1e6]
     np.testing.assert_allclose(diag, [313, 38, 51, 18, 159], rtol=0.02)

