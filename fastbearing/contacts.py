@@ -223,11 +223,16 @@ def ball_contacts(bearing: Bearing, q, speed=0.0) -> BallContacts:
         if a not in cache:
             cache[a] = geometry.contacts(a)
         for side, contact in zip(("inner", "outer"), cache[a]):
-            major, minor = contact.semi_axes(Q[i])
-            out[f"{side}_max_pressure"][i] = contact.max_pressure(Q[i])
-            out[f"{side}_semi_major"][i] = major
-            out[f"{side}_semi_minor"][i] = minor
+            _fill_contact(out, side, i, contact, Q[i])
     return BallContacts(**base, **out)
+
+
+def _fill_contact(out: dict, side: str, i: int, contact: HertzContact, load: float) -> None:
+    """Ball i's Hertz contact at one race under ``load`` (N): maximum pressure and ellipse semi-axes."""
+    major, minor = contact.semi_axes(load)
+    out[f"{side}_max_pressure"][i] = contact.max_pressure(load)
+    out[f"{side}_semi_major"][i] = major
+    out[f"{side}_semi_minor"][i] = minor
 
 
 def _spinning_contacts(bearing: Bearing, q, speed) -> BallContacts:
@@ -249,10 +254,7 @@ def _spinning_contacts(bearing: Bearing, q, speed) -> BallContacts:
                                 ("outer", Qo, states[:, hs.STATE_OUTER_ANGLE])):
         for i in np.flatnonzero(loads > 0):
             contact = geometry.contacts(abs(float(angles[i])))[0 if side == "inner" else 1]
-            major, minor = contact.semi_axes(loads[i])
-            out[f"{side}_max_pressure"][i] = contact.max_pressure(loads[i])
-            out[f"{side}_semi_major"][i] = major
-            out[f"{side}_semi_minor"][i] = minor
+            _fill_contact(out, side, i, contact, loads[i])
     azimuth = np.mod(np.arctan2(table[SIN_PSI], table[COS_PSI]), 2.0 * math.pi)
     ball = np.concatenate([np.arange(r.n_balls) for _, r in bearing.ball_rows])
     return BallContacts(row=bearing.element_rows, ball=ball, azimuth=azimuth, deflection=delta, load=Q,

@@ -231,8 +231,8 @@ def start_position(ur, uz, p, w_i, w_o, smoothing_eps):
     d_o = p[OUTER_SHARE] * max(delta, 0.0)
     Q = Ko * d_o * math.sqrt(d_o)
     Qi = max(Q, 0.25 * Fc)
-    Ro = ro + (Qi + Fc) / Ko * ((Qi + Fc) / Ko) ** (-1.0 / 3.0) if Qi + Fc > 0.0 else ro
-    Ri = ri + Qi / Ki * (Qi / Ki) ** (-1.0 / 3.0) if Qi > 0.0 else ri
+    Ro = ro + ((Qi + Fc) / Ko) ** (2.0 / 3.0)  # delta = (Q/K)^(2/3)
+    Ri = ri + (Qi / Ki) ** (2.0 / 3.0)
     er = ur / A
     ez = uz / A
     if A >= Ro + Ri or A <= abs(Ro - Ri):  # the circles do not cross: on the line O-I
