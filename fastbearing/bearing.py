@@ -462,13 +462,17 @@ class Bearing:
 
     def ball_set(self, cage_angle: float = 0.0, speed: float | None = None) -> tuple:
         """What the kernel reads: (ball table, per-ball exponents or None when every n is 1.5, None:
-        the exact contact law, slice table, speed table, omega). ``speed`` (rpm) None: no speed table,
-        the quasi-static model; a number (0 included): the high-speed constants and omega in rad/s
-        (fastbearing.high_speed; at 0 rpm the kernel takes the quasi-static loop)."""
+        the exact contact law, slice table, speed table, omega, warm starts). ``speed`` (rpm) None: no
+        speed table, the quasi-static model; a number (0 included): the high-speed constants, omega in
+        rad/s and a fresh scratch for the balls' warm starts (fastbearing.high_speed; at 0 rpm the kernel
+        takes the quasi-static loop). A ball set at speed belongs to one thread."""
         if speed is None:
-            return (self.ball_table(cage_angle), self.ball_exponents, None, self.slice_table(cage_angle), None, 0.0)
+            return (self.ball_table(cage_angle), self.ball_exponents, None, self.slice_table(cage_angle), None, 0.0,
+                    None)
+        from .high_speed import N_WARM
+
         return (self.ball_table(cage_angle), self.ball_exponents, None, self.slice_table(cage_angle),
-                self.speed_table, rpm_to_rad_s(speed))
+                self.speed_table, rpm_to_rad_s(speed), np.zeros((N_WARM, self.n_balls)))
 
     @cached_property
     def speed_table(self) -> np.ndarray:

@@ -238,12 +238,12 @@ def _fill_contact(out: dict, side: str, i: int, contact: HertzContact, load: flo
 def _spinning_contacts(bearing: Bearing, q, speed) -> BallContacts:
     """:func:`ball_contacts` at speed: every ball's settled state from the one high-speed element."""
     q = _as_vector(q, "q", "dx, dy, dz in mm; bx, by in rad")
-    table, _, _, _, speed_table, omega = speed_ball_set(bearing, speed)
+    table, _, _, _, speed_table, omega, _ = speed_ball_set(bearing, speed)
     n = bearing.n_balls
     states = np.empty((n, hs.N_STATE))
     Q = np.empty(n)
     alpha = np.empty(n)
-    hs.spinning_balls(q, table, speed_table, omega, 0.0, np.empty(5), None, Q, alpha, states)
+    hs.spinning_balls(q, table, speed_table, omega, 0.0, np.empty(5), None, Q, alpha, states, None)
     Qo = states[:, hs.STATE_OUTER_LOAD]
     geometry = bearing.geometry
     # each contact's deflection from its own load and Hertz constant

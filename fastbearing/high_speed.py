@@ -53,6 +53,14 @@ BALL_RTOL = 1e-13
  STATE_ORBITAL_SPEED, STATE_ITERATIONS, STATE_RESIDUAL) = range(9)  # iterations -1: a free ball
 N_STATE = 9
 
+#: Rows of a ball set's warm-start scratch (N_WARM, n_balls): each ball's settled centre B, the inner groove
+#: centre u it was settled for and X = G_B^-1 G_u there, so that the next evaluation starts from the
+#: first-order prediction B - X (u' - u); WARM_VALID 0: no start stored (a free or unsettled ball).
+(WARM_BR, WARM_BZ, WARM_UR, WARM_UZ, WARM_X00, WARM_X01, WARM_X10, WARM_X11, WARM_VALID) = range(9)
+N_WARM = 9
+#: Newton iterations a warm start gets before the ball is settled again from :func:`start_position`.
+WARM_ITERATIONS = 12
+
 
 @njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
 def _race(L, r0, k, smoothing_eps):
@@ -111,7 +119,7 @@ def kinematics(ci, si, co, so, w_i, w_o, gamma, inner_control):
     return wm, m_ci, m_si, m_co, m_so, S, s_ci, s_si, s_co, s_so
 
 
-@njit(fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
 def ball_state(ur, uz, br, bz, p, w_i, w_o, smoothing_eps):
     """Everything about one ball at centre B = (br, bz) (mm from O, mirrored frame) for the inner groove
     centre at u = (ur, uz): the residual g, its Jacobian G_B, G_u = dg/du, the ring force F and moment m
@@ -255,23 +263,16 @@ def _tolerance(st, reach):
 
 
 @njit(fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
-def settle_ball(ur, uz, p, w_i, w_o, smoothing_eps):
-    """Newton on one ball's equilibrium g(B) = 0 from :func:`start_position`.
-
-    Returns (state tuple of :func:`ball_state` at the solution, iterations, settled): a ball the rings
-    leave free returns iterations -1, settled, with its state at the free position (Q_i = 0: nothing for
-    the ring).
-    """
-    br, bz, loaded = start_position(ur, uz, p, w_i, w_o, smoothing_eps)
+def _newton(ur, uz, br, bz, p, w_i, w_o, smoothing_eps, max_iterations):
+    """Newton on one ball's equilibrium g(B) = 0 from B = (br, bz); returns (state, br, bz, iterations,
+    settled)."""
     st = ball_state(ur, uz, br, bz, p, w_i, w_o, smoothing_eps)
-    if not loaded:
-        return st, -1, True
     reach = p[INNER_RADIUS] + p[OUTER_RADIUS] + abs(ur) + abs(uz)
     ri = p[INNER_RADIUS]
-    for it in range(BALL_ITERATIONS):
+    for it in range(max_iterations):
         g_r, g_z, a, b, c, d = st[0], st[1], st[2], st[3], st[4], st[5]
         if max(abs(g_r), abs(g_z)) <= _tolerance(st, reach):
-            return st, it, True
+            return st, br, bz, it, True
         det = a * d - b * c
         step_r = (d * g_r - b * g_z) / det
         step_z = (a * g_z - c * g_r) / det
@@ -291,20 +292,52 @@ def settle_ball(ur, uz, p, w_i, w_o, smoothing_eps):
         br -= step_r
         bz -= step_z
         st = ball_state(ur, uz, br, bz, p, w_i, w_o, smoothing_eps)
-    return st, BALL_ITERATIONS, max(abs(st[0]), abs(st[1])) <= _tolerance(st, reach)
+    return st, br, bz, max_iterations, max(abs(st[0]), abs(st[1])) <= _tolerance(st, reach)
+
+
+@njit(fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def settle_ball(ur, uz, p, w_i, w_o, smoothing_eps, warm_br=0.0, warm_bz=0.0, warm=False):
+    """Settle one ball: Newton on g(B) = 0 from the warm start (warm_br, warm_bz) when ``warm`` and both
+    its contacts are closed there, else (or when the warm start does not settle in WARM_ITERATIONS)
+    from :func:`start_position`.
+
+    Returns (state tuple of :func:`ball_state` at the solution, br, bz, iterations, settled): a ball the
+    rings leave free returns iterations -1, settled, with its state at the free position (Q_i = 0: nothing
+    for the ring).
+    """
+    A = math.sqrt(ur * ur + uz * uz)
+    # only a ring approach that leaves room for the ball may free it: start_position tells
+    pinched = A - p[INNER_RADIUS] - p[OUTER_RADIUS] > 0.0 or smoothing_eps > 0.0
+    if not pinched or not warm:
+        br, bz, loaded = start_position(ur, uz, p, w_i, w_o, smoothing_eps)
+    else:
+        br, bz, loaded = warm_br, warm_bz, True
+    if warm and loaded:
+        st, wbr, wbz, it, settled = _newton(ur, uz, warm_br, warm_bz, p, w_i, w_o, smoothing_eps,
+                                            WARM_ITERATIONS)
+        if settled and st[34] > 0.0 and st[35] > 0.0:
+            return st, wbr, wbz, it, True
+        if pinched:  # the warm start failed: start over from the usual guess
+            br, bz, loaded = start_position(ur, uz, p, w_i, w_o, smoothing_eps)
+    if not loaded:
+        return ball_state(ur, uz, br, bz, p, w_i, w_o, smoothing_eps), br, bz, -1, True
+    return _newton(ur, uz, br, bz, p, w_i, w_o, smoothing_eps, BALL_ITERATIONS)
 
 
 @njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
-def condensed(st):
-    """The ball's condensed stiffness: dF/du = F_u - F_B G_B^-1 G_u (2x2, mirrored frame) and
-    dm/du = m_u - m_B G_B^-1 G_u (2), from a :func:`ball_state` tuple."""
+def sensitivity(st):
+    """X = G_B^-1 G_u (2x2, row-major): how the settled centre B moves with the inner groove centre u,
+    dB = -X du."""
     a, b, c, d = st[2], st[3], st[4], st[5]
     det = a * d - b * c
-    # X = G_B^-1 G_u
-    x00 = (d * st[6] - b * st[8]) / det
-    x01 = (d * st[7] - b * st[9]) / det
-    x10 = (a * st[8] - c * st[6]) / det
-    x11 = (a * st[9] - c * st[7]) / det
+    return ((d * st[6] - b * st[8]) / det, (d * st[7] - b * st[9]) / det,
+            (a * st[8] - c * st[6]) / det, (a * st[9] - c * st[7]) / det)
+
+
+@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def condensed(st, x00, x01, x10, x11):
+    """The ball's condensed stiffness: dF/du = F_u - F_B X (2x2, mirrored frame) and dm/du = m_u - m_B X
+    (2), from a :func:`ball_state` tuple and its :func:`sensitivity` X = G_B^-1 G_u."""
     k00 = st[12] - (st[16] * x00 + st[17] * x10)
     k01 = st[13] - (st[16] * x01 + st[17] * x11)
     k10 = st[14] - (st[18] * x00 + st[19] * x10)
@@ -315,7 +348,7 @@ def condensed(st):
 
 
 @njit(fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
-def spinning_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact_angle, states):
+def spinning_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact_angle, states, warm):
     """Write f (5) and, unless ``K`` is None, Kb (5x5, not symmetric) of the ball rows at shaft speed.
 
     ``table`` is the quasi-static ball table (bearing.ball_table), ``speed_table`` (N_SPEED_COLUMNS,
@@ -324,7 +357,9 @@ def spinning_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact_a
     contact's force (and the friction's moment) through the same J = [a; b] as the quasi-static ball,
     and Kb += J^T (dF/du) J + w (dm/du) J per ball with w = (0, 0, 0, sin psi, -cos psi).
     ``ball_load``/``contact_angle`` record Q_i (N) and alpha_i (rad, positive on the row's direction);
-    ``states`` (n_balls, N_STATE) or None records the whole ball. Returns (sum of Q_i in N, loaded balls,
+    ``states`` (n_balls, N_STATE) or None records the whole ball. ``warm`` (N_WARM, n_balls) or None: each
+    ball starts from its last settled centre moved by the first-order prediction (rows WARM_*), and
+    leaves its new one there. Returns (sum of Q_i in N, loaded balls,
     warning bits: 1 contact reversed, 2 beyond validity, 4 a ball not settled).
     """
     n = table.shape[1]
@@ -352,7 +387,25 @@ def spinning_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact_a
         outer = speed_table[OUTER_ROTATES, j]
         w_i = omega * (1.0 - outer)
         w_o = omega * outer
-        st, iterations, settled = settle_ball(ur, uz, p, w_i, w_o, eps)
+        if warm is not None and warm[WARM_VALID, j] != 0.0:
+            du_r = ur - warm[WARM_UR, j]
+            du_z = uz - warm[WARM_UZ, j]
+            st, br, bz, iterations, settled = settle_ball(
+                ur, uz, p, w_i, w_o, eps, warm[WARM_BR, j] - (warm[WARM_X00, j] * du_r + warm[WARM_X01, j] * du_z),
+                warm[WARM_BZ, j] - (warm[WARM_X10, j] * du_r + warm[WARM_X11, j] * du_z), True)
+        else:
+            st, br, bz, iterations, settled = settle_ball(ur, uz, p, w_i, w_o, eps, 0.0, 0.0, False)
+        x00, x01, x10, x11 = sensitivity(st)
+        if warm is not None:
+            warm[WARM_BR, j] = br
+            warm[WARM_BZ, j] = bz
+            warm[WARM_UR, j] = ur
+            warm[WARM_UZ, j] = uz
+            warm[WARM_X00, j] = x00
+            warm[WARM_X01, j] = x01
+            warm[WARM_X10, j] = x10
+            warm[WARM_X11, j] = x11
+            warm[WARM_VALID, j] = 1.0 if settled and iterations >= 0 else 0.0
         Qi = st[25]
         si = st[28]
         loaded = st[34] > 0.0
@@ -392,7 +445,7 @@ def spinning_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact_a
         f3 += m * s
         f4 -= m * c
         if K is not None:
-            k00, k01, k10, k11, m0, m1 = condensed(st)
+            k00, k01, k10, k11, m0, m1 = condensed(st, x00, x01, x10, x11)
             k01 *= sgn
             k10 *= sgn
             m0 *= sgn

@@ -155,7 +155,7 @@ def ball_loop(q, balls, f, K, ball_load, contact_angle):
     ----------
     q : (5,) float64
         (dx, dy, dz, bx, by) in mm and rad at the bearing centre.
-    balls : tuple (table, exponent, smoothing, slices, speed_table, omega)
+    balls : tuple (table, exponent, smoothing, slices, speed_table, omega, warm)
         ``table`` (13, n_balls) float64, column-major per-ball data from
         :meth:`fastbearing.Bearing.ball_set`; ``exponent`` None (all balls
         n = 1.5) or (n_balls,) float64 per-ball exponents; ``smoothing``
@@ -164,7 +164,9 @@ def ball_loop(q, balls, f, K, ball_load, contact_angle):
         slices (rollers.slice_table; no columns for a ball bearing), added
         by :func:`slice_loop`; ``speed_table`` None (the quasi-static model) or
         the per-ball constants of the high-speed model (bearing.speed_table)
-        with the shaft speed ``omega`` in rad/s (at 0 the quasi-static loop runs).
+        with the shaft speed ``omega`` in rad/s (at 0 the quasi-static loop runs)
+        and ``warm`` (high_speed.N_WARM, n_balls) the balls' warm starts (None
+        without a speed table).
     f : (5,) float64, out
         (Fx, Fy, Fz, Mx, My) on the inner ring in N and N*mm.
     K : (5, 5) float64 or None, out
@@ -186,9 +188,9 @@ def ball_loop(q, balls, f, K, ball_load, contact_angle):
         direction, BEYOND_VALIDITY when a ball's deflection exceeds its
         row's deflection limit (table row DEFLECTION_LIMIT); 0 otherwise.
     """
-    table, exponent, smoothing, slices, speed_table, omega = balls
-    total, n_loaded, warnings = ball_rows(q, table, exponent, smoothing, speed_table, omega, f, K, ball_load,
-                                          contact_angle)
+    table, exponent, smoothing, slices, speed_table, omega, warm = balls
+    total, n_loaded, warnings = ball_rows(q, table, exponent, smoothing, speed_table, omega, warm, f, K,
+                                          ball_load, contact_angle)
     if slices.shape[1] > 0:
         t, n = slice_loop(q, slices, smoothing, f, K, ball_load, contact_angle)
         total += t
@@ -196,7 +198,7 @@ def ball_loop(q, balls, f, K, ball_load, contact_angle):
     return total, n_loaded, warnings
 
 
-def ball_rows(q, table, exponent, smoothing, speed_table, omega, f, K, ball_load, contact_angle):
+def ball_rows(q, table, exponent, smoothing, speed_table, omega, warm, f, K, ball_load, contact_angle):
     """The ball rows' f and Kb (written, not added) and (total load, loaded balls, warning bits): the
     quasi-static loop, or with a ``speed_table`` and omega (rad/s) > 0 the high-speed balls
     (high_speed.spinning_balls). Chosen while typing: ``speed_table`` None compiles the quasi-static
@@ -204,17 +206,17 @@ def ball_rows(q, table, exponent, smoothing, speed_table, omega, f, K, ball_load
 
 
 @overload(ball_rows, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
-def _ball_rows(q, table, exponent, smoothing, speed_table, omega, f, K, ball_load, contact_angle):
+def _ball_rows(q, table, exponent, smoothing, speed_table, omega, warm, f, K, ball_load, contact_angle):
     if isinstance(speed_table, types.NoneType):
-        def quasi_static(q, table, exponent, smoothing, speed_table, omega, f, K, ball_load, contact_angle):
+        def quasi_static(q, table, exponent, smoothing, speed_table, omega, warm, f, K, ball_load, contact_angle):
             return quasi_static_balls(q, table, exponent, smoothing, f, K, ball_load, contact_angle)
         return quasi_static
 
-    def at_speed(q, table, exponent, smoothing, speed_table, omega, f, K, ball_load, contact_angle):
+    def at_speed(q, table, exponent, smoothing, speed_table, omega, warm, f, K, ball_load, contact_angle):
         if omega == 0.0:  # standing still: the quasi-static balls exactly
             return quasi_static_balls(q, table, exponent, smoothing, f, K, ball_load, contact_angle)
         total, n_loaded, flags = spinning_balls(q, table, speed_table, omega, smoothing_eps(smoothing), f, K,
-                                                ball_load, contact_angle, None)
+                                                ball_load, contact_angle, None, warm)
         warnings = ((CONTACT_REVERSED if flags & 1 else 0) | (BEYOND_VALIDITY if flags & 2 else 0)
                     | (BALL_UNSETTLED if flags & 4 else 0))
         return total, n_loaded, warnings

@@ -438,13 +438,13 @@ def _smoothing_continuation(f_target, q, f, K, balls, settings, tol, arm, reach,
     contact law from the smallest. Returns what :func:`_minimise_energy`
     does, with iterations and evaluations summed over the levels.
     """
-    table, exponent, _, slices, speed_table, omega = balls
+    table, exponent, _, slices, speed_table, omega, warm = balls
     eps = SMOOTHING_FIRST * reach
     iterations = 0
     evals = 0
     while eps > SMOOTHING_LAST * reach:
         level_tol = max(tol, SMOOTHING_RTOL * tol / settings.rtol)
-        smoothed = (table, exponent, eps, slices, speed_table, omega)
+        smoothed = (table, exponent, eps, slices, speed_table, omega, warm)
         st, it, rmax, ev, total, warn = _minimise_energy(f_target, q, f, K, smoothed, settings, level_tol, arm,
                                                           reach, D, work)
         iterations += it

@@ -12,6 +12,7 @@ from numba import njit, prange, types
 from numba.extending import intrinsic, overload
 
 from .config import CACHE, ERROR_MODEL
+from .high_speed import N_WARM, WARM_VALID
 from .kernel import ball_loop
 from .linalg import cholesky_solve
 from .roots import cube_root
@@ -39,16 +40,51 @@ def stop_requested(stop):
     return _load_flag(stop) != 0
 
 
-def at_speed(balls, speeds, i):
+def warm_scratch(speed_table):
+    """A block's scratch for the high-speed balls' warm starts (high_speed.N_WARM, n_balls), or None for a
+    quasi-static ball set (``speed_table`` None). Chosen while typing."""
+
+
+@overload(warm_scratch)
+def _warm_scratch(speed_table):
+    if isinstance(speed_table, types.NoneType):
+        return lambda speed_table: None
+    return lambda speed_table: np.zeros((N_WARM, speed_table.shape[1]))
+
+
+def forget_warm(warm):
+    """Drop every ball's warm start (a case that starts cold starts its balls cold too, so that its result
+    depends on its own run alone, never on which block or thread ran it before)."""
+
+
+@overload(forget_warm)
+def _forget_warm(warm):
+    if isinstance(warm, types.NoneType):
+        return lambda warm: None
+
+    def forget(warm):
+        for j in range(warm.shape[1]):
+            warm[WARM_VALID, j] = 0.0
+    return forget
+
+
+def at_speed(balls, speeds, i, warm, fresh):
     """The ball set of case i: ``balls`` itself when it has no spin (quasi-static), else with the spin's
-    omega replaced by ``speeds[i]`` (rad/s). Chosen while typing, so the quasi-static sweeps are unchanged."""
+    omega replaced by ``speeds[i]`` (rad/s) and the block's warm-start scratch ``warm``
+    (:func:`warm_scratch`), emptied first when ``fresh``. Chosen while typing, so the quasi-static sweeps
+    are unchanged."""
 
 
 @overload(at_speed)
-def _at_speed(balls, speeds, i):
+def _at_speed(balls, speeds, i, warm, fresh):
     if isinstance(balls.types[4], types.NoneType):
-        return lambda balls, speeds, i: balls
-    return lambda balls, speeds, i: (balls[0], balls[1], balls[2], balls[3], balls[4], speeds[i])
+        return lambda balls, speeds, i, warm, fresh: balls
+
+    def spinning(balls, speeds, i, warm, fresh):
+        if fresh:
+            forget_warm(warm)
+        return (balls[0], balls[1], balls[2], balls[3], balls[4], speeds[i], warm)
+    return spinning
 
 
 @njit(parallel=True, cache=CACHE, error_model=ERROR_MODEL)
@@ -59,8 +95,10 @@ def solve_sweep(f_targets, q, f, K, status, iterations, residual, evaluations, b
     n_blocks = (n + block - 1) // block
     for b in prange(n_blocks):
         work = np.empty((WORK_ROWS, 5))
+        spin = warm_scratch(balls[4])
         for i in range(b * block, min(n, (b + 1) * block)):
-            out = solve_case(f_targets[i], q[i], f[i], K[i], at_speed(balls, speeds, i), settings, warm, work,
+            out = solve_case(f_targets[i], q[i], f[i], K[i], at_speed(balls, speeds, i, spin, True), settings, warm,
+                             work,
                              None, None)
             status[i] = out.status
             iterations[i] = out.iterations
@@ -75,8 +113,9 @@ def stiffness_sweep(q, f, K, balls, speeds, block):
     n = q.shape[0]
     n_blocks = (n + block - 1) // block
     for b in prange(n_blocks):
+        spin = warm_scratch(balls[4])
         for i in range(b * block, min(n, (b + 1) * block)):
-            ball_loop(q[i], at_speed(balls, speeds, i), f[i], K[i], None, None)
+            ball_loop(q[i], at_speed(balls, speeds, i, spin, True), f[i], K[i], None, None)
 
 
 @njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True)
@@ -277,6 +316,7 @@ def map_sweep(inputs, given_load, segments, q, f, K, status, iterations, residua
         ball_load = np.empty(n_record)
         contact_angle = np.empty(n_record)
         sums = np.empty((max(life.shape[0], 1), 2))
+        spin = warm_scratch(balls[4])
         for run in range(g, n_runs, groups):
             if stop_requested(stop):
                 break
@@ -287,7 +327,7 @@ def map_sweep(inputs, given_load, segments, q, f, K, status, iterations, residua
                 if warm:
                     tangent_predictor(given_load, inputs[i], q[i - 1], f[i - 1], K[i - 1], q[i], predictor)
                 status[i], iterations[i], residual[i] = operating_point(
-                    given_load, inputs[i], warm, q[i], f[i], K[i], at_speed(balls, speeds, i), settings, work,
+                    given_load, inputs[i], warm, q[i], f[i], K[i], at_speed(balls, speeds, i, spin, not warm), settings, work,
                     ball_load, contact_angle)
                 row_summary(ball_load, contact_angle, ball_row, max_load[i], n_loaded[i], min_angle[i],
                             max_angle[i])
@@ -324,16 +364,19 @@ def passage_sweep(inputs, given_load, tables, slice_tables, exponent, speed_tabl
         work = np.empty((WORK_ROWS, 5))
         ball_load = np.empty(n_elements)
         contact_angle = np.empty(n_elements)
+        spin = warm_scratch(speed_table)
         for i in range(g, n_points, groups):
             if stop_requested(stop):
                 break
             for p in range(n_positions):
                 warm = p > 0 and (status[i, p - 1] & OUTCOME_MASK) == CONVERGED
+                if not warm:
+                    forget_warm(spin)
                 if warm:
                     for d in range(5):
                         q[i, p, d] = q[i, p - 1, d]
                 status[i, p], iterations[i, p], residual[i, p] = operating_point(
-                    given_load, inputs[i], warm, q[i, p], f[i, p], K[i, p], (tables[p], exponent, None, slice_tables[p], speed_table, omega),
+                    given_load, inputs[i], warm, q[i, p], f[i, p], K[i, p], (tables[p], exponent, None, slice_tables[p], speed_table, omega, spin),
                     settings,
                     work, ball_load, contact_angle)
                 row_summary(ball_load, contact_angle, ball_row, max_load[i, p], n_loaded[i, p], min_angle[i, p],
