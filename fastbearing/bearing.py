@@ -66,7 +66,8 @@ def check_speed_model(bearing) -> None:
         raise validate.FieldError("speed", "above 0 rpm needs ball rows: the high-speed model (centrifugal force, "
                                   "gyroscopic moment) is not implemented for roller rows; give speed = 0",
                                   show_value=False)
-    if bearing.geometry is None or not hasattr(bearing.geometry, "speed_columns"):
+    if bearing.geometry is None or not (hasattr(bearing.geometry, "speed_columns")
+                                        or hasattr(bearing.geometry, "row_speed_columns")):
         raise validate.FieldError("speed", f"above 0 rpm needs the bearing's geometry: {bearing.name or 'this bearing'} "
                                   "is given by model parameters only; define it with [bearing.geometry] "
                                   "(ball_diameter, pitch_diameter, inner_groove_ratio, outer_groove_ratio, ...) so "
@@ -482,9 +483,12 @@ class Bearing:
 
         check_speed_model(self)
         table = np.empty((N_SPEED_COLUMNS, self.n_balls))
+        # a geometry may give each row's constants itself (a shaft's rows come from several bearings)
+        per_row = getattr(self.geometry, "row_speed_columns", None)
         k = 0
-        for _, r in self.ball_rows:
-            table[:, k:k + r.n_balls] = np.asarray(self.geometry.speed_columns(r.contact_angle))[:, None]
+        for i, r in self.ball_rows:
+            columns = per_row(i) if per_row is not None else self.geometry.speed_columns(r.contact_angle)
+            table[:, k:k + r.n_balls] = np.asarray(columns)[:, None]
             k += r.n_balls
         return table
 

@@ -164,7 +164,9 @@ def build_parser() -> argparse.ArgumentParser:
     sh.add_argument("--method", choices=list(METHODS), default="newton", help="solver (default newton)")
     sh.add_argument("--life", action="store_true", help="each bearing's rating life at its reaction and the "
                     "system's (weakest link), million revolutions; needs [bearing.geometry] in every bearing")
-    sh.add_argument("--speed", type=float, metavar="RPM", help="shaft speed in rpm for --life: lives in hours too")
+    sh.add_argument("--speed", type=float, metavar="RPM", help="shaft speed in rpm (default: [shaft] speed, else "
+                    "0): above 0 every bearing's balls run the high-speed model (centrifugal force, gyroscopic "
+                    "moment; needs [bearing.geometry]); with --life the lives in hours too")
     ex = sub.add_parser("export", help="write Kb for other tools: csv, json, npz, Nastran DMIG, ROSS",
                         description=(
                             "Export Kb from a `solve --json` or `shaft --json` output (.json) or from a load map "
@@ -381,15 +383,14 @@ def _shaft(args) -> int:
     from .shaft import natural_frequencies, read_shaft, solve_shaft
 
     shaft = read_shaft(args.config)
-    result = solve_shaft(shaft, method=args.method)
+    speed, life_speed = _shaft_speed(args, shaft)
+    result = solve_shaft(shaft, method=args.method, speed=speed)
     out = result.to_dict()
-    if args.speed is not None and not args.life:
-        raise ValueError("--speed goes with --life")
     if args.life and result.solution.converged:
         from .life import LifeSettings
         from .shaft import shaft_life
 
-        life = shaft_life(shaft, result, LifeSettings(speed=args.speed))
+        life = shaft_life(shaft, result, LifeSettings(speed=life_speed or None, balls_at_speed=speed > 0))
         for b, lf in zip(out["bearings"], life["bearings"]):
             b["life"] = lf
         out["system_L10r"], out["system_L10r_hours"] = life["system_L10r"], life["system_L10r_hours"]
@@ -400,7 +401,8 @@ def _shaft(args) -> int:
     if args.json:
         print(json_text(out))
         return 0 if result.solution.converged else 1
-    print(f"shaft: status {out['status']}; reference z = {shaft.reference:g} mm")
+    print(f"shaft: status {out['status']}; reference z = {shaft.reference:g} mm"
+          + (f"; speed {speed:g} rpm" if speed > 0 else ""))
     print("q at the reference (mm, mm, mm, rad, rad): " + "  ".join(f"{v:.6g}" for v in out["q"]))
     print(_matrix("K_system at the reference", result.K_system))
     for i, b in enumerate(result.bearings):
@@ -744,6 +746,23 @@ def _solve(args) -> int:
         if "life" in result:
             print(_life_text(result["life"]))
     return 0 if result["converged"] else 1
+
+
+def _shaft_speed(args, shaft) -> tuple[float, float]:
+    """(the model's speed, the speed for lives in hours) of ``shaft``: --speed, else [shaft] speed. With
+    --speed and --life, a shaft with roller rows runs quasi-statically (said on stderr), as solve does."""
+    from .bearing import check_speed
+
+    if args.speed is None:
+        return shaft.speed, shaft.speed
+    speed = check_speed(args.speed, "--speed")
+    if speed > 0 and args.life and any(mb.bearing.roller_rows for mb in shaft.bearings):
+        print("fastbearing: note: the high-speed model covers ball rows; a bearing on this shaft has roller rows, "
+              "so the shaft is solved quasi-statically and --speed gives the lives in hours", file=sys.stderr)
+        return 0.0, speed
+    if speed > 0:
+        shaft.check_speed_model()
+    return speed, speed
 
 
 def _speed_option(value, bearing, life: bool) -> tuple[float, float]:

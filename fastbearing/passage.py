@@ -22,15 +22,15 @@ import numpy as np
 
 from . import jobs, storage, validate
 from .api import solver_settings
-from .bearing import Bearing
+from .bearing import Bearing, check_speed, check_speed_model, rpm_to_rad_s
 from .bearing_file import read_job_config
 from .dofs import AXES, K_ENTRIES, K_UNITS, UNITS
 from .files import publish
 from .grid import Axis, CaseSet, parse_axis
 from .sweep import passage_sweep
 
-_PASSAGE_KEYS = {"given", "points", "positions", "harmonics", "shaft_speed", "ball_diameter", "pitch_diameter",
-                 "rotating", "method", "rtol", "max_iter", "chunk"}
+_PASSAGE_KEYS = {"given", "points", "positions", "harmonics", "speed", "shaft_speed", "ball_diameter",
+                 "pitch_diameter", "rotating", "method", "rtol", "max_iter", "chunk"}
 #: Most cage positions per period (a sanity bound: 64 resolve the ball-pass harmonics well).
 MAX_POSITIONS = 100_000
 
@@ -59,7 +59,7 @@ class PassageConfig:
     cases: CaseSet
     positions: int
     harmonics: int
-    speed: CageSpeed | None
+    speed: CageSpeed | None  # the time axis
     method: str
     rtol: float | None
     max_iter: int | None
@@ -67,6 +67,7 @@ class PassageConfig:
     text: str
     source: Path | None
     fingerprint: str
+    model_speed: float = 0.0  # rpm: above 0 the high-speed balls (fastbearing.high_speed)
 
     @property
     def period_order(self) -> int:
@@ -119,6 +120,12 @@ def read_config(config) -> PassageConfig:
     else:
         raise ValueError(f"passage needs points = [[...], ...] or grid axes ({', '.join(names)})")
     cases.check_size("passage")
+    model_speed = check_speed(spec.get("speed", 0.0), "passage.speed")
+    if model_speed > 0:
+        try:
+            check_speed_model(bearing)
+        except validate.FieldError as err:
+            raise err.within("passage") from None
     speed = None
     speed_keys = [k for k in ("shaft_speed", "ball_diameter", "pitch_diameter") if k in spec]
     if speed_keys:
@@ -129,12 +136,20 @@ def read_config(config) -> PassageConfig:
         dm = validate.number(spec["pitch_diameter"], "passage.pitch_diameter", low=D, low_open=True, units="mm")
         rotating = validate.choice(spec.get("rotating", "inner"), "passage.rotating", ("inner", "outer"))
         rpm = validate.number(spec["shaft_speed"], "passage.shaft_speed", low=0, low_open=True, units="rpm")
+        if model_speed > 0 and rpm != model_speed:
+            raise validate.FieldError("passage.shaft_speed", f"must equal passage.speed ({model_speed:g} rpm) "
+                                      "when both are given (or leave it out: the speed gives the time axis)", rpm)
         speed = CageSpeed(rpm, D, dm, math.radians(bearing.rows[0].contact_angle), rotating)
     elif "rotating" in spec:
-        raise ValueError("passage.rotating needs shaft_speed, ball_diameter and pitch_diameter")
+        raise ValueError("passage.rotating needs shaft_speed, ball_diameter and pitch_diameter (or speed with "
+                         "[bearing.geometry], whose rotating key says which ring turns)")
+    elif model_speed > 0:  # the time axis from the bearing's own geometry
+        g = bearing.geometry
+        speed = CageSpeed(model_speed, g.ball_diameter, g.pitch_diameter,
+                          math.radians(bearing.rows[0].contact_angle), g.rotating)
     digest = hashlib.sha256(text.encode()).hexdigest()
     return PassageConfig(bearing, cases, positions, harmonics, speed, method, spec.get("rtol"),
-                         spec.get("max_iter"), chunk, text, source, digest)
+                         spec.get("max_iter"), chunk, text, source, digest, model_speed)
 
 
 def fourier(K: np.ndarray, harmonics: int) -> tuple[np.ndarray, np.ndarray]:
@@ -178,13 +193,16 @@ def _variables(cfg: PassageConfig) -> list[storage.Variable]:
     ]
 
 
-def compute_block(tables: np.ndarray, slice_tables: np.ndarray, exponents: np.ndarray, ball_row: np.ndarray,
-                  given_load: bool, settings, harmonics: int, inputs: np.ndarray, res: dict, first: int,
-                  stop: np.ndarray) -> None:
+def compute_block(tables: np.ndarray, slice_tables: np.ndarray, exponents: np.ndarray, speed_table, omega: float,
+                  ball_row: np.ndarray, given_load: bool, settings, harmonics: int, inputs: np.ndarray, res: dict,
+                  first: int, stop: np.ndarray) -> None:
     """Fill one block's results ``res``: every point of ``inputs`` at every cage position, then the
     summaries over the period (mean, min, max, variation, Fourier). The work unit of a table, here or on Dask.
-    ``first`` (the block's first point) is unused: every point starts cold. ``stop[0] != 0`` ends early."""
-    passage_sweep(inputs, given_load, tables, slice_tables, exponents, None, 0.0, res["q"], res["f"], res["K"], res["status"],
+    ``speed_table`` None (quasi-static) or the bearing's high-speed constants with the shaft speed ``omega``
+    (rad/s). ``first`` (the block's first point) is unused: every point starts cold. ``stop[0] != 0`` ends
+    early."""
+    passage_sweep(inputs, given_load, tables, slice_tables, exponents, speed_table, omega, res["q"], res["f"],
+                  res["K"], res["status"],
                   res["iterations"], res["residual"], res["max_ball_load"], res["loaded_balls"],
                   res["min_contact_angle"], res["max_contact_angle"], ball_row, settings, stop)
     if stop[0] != 0:
@@ -203,7 +221,7 @@ def job(cfg: PassageConfig) -> jobs.Job:
     aux = [(C("cage_angle", cfg.cage_angles, "rad", "cage rotation from the bearing definition's first-ball azimuth"),
             "position")]
     attrs = {"period_rad": cfg.period, "period_order": cfg.period_order, "positions": cfg.positions,
-             "n_points": cfg.cases.n_cases}
+             "n_points": cfg.cases.n_cases, "speed_rpm": cfg.model_speed}
     if cfg.speed is not None:
         fc = cfg.speed.cage_frequency
         aux.append((C("time", cfg.cage_angles / (2 * math.pi * fc), "s", "time from position 0"), "position"))
@@ -215,8 +233,10 @@ def job(cfg: PassageConfig) -> jobs.Job:
     tables = np.ascontiguousarray(np.stack([cfg.bearing.ball_table(a) for a in cfg.cage_angles]))
     settings = solver_settings(cfg.bearing, cfg.method, cfg.rtol, cfg.max_iter)
     slice_tables = np.ascontiguousarray(np.stack([cfg.bearing.slice_table(a) for a in cfg.cage_angles]))
-    compute = partial(compute_block, tables, slice_tables, cfg.bearing.ball_exponents, cfg.bearing.element_rows,
-                      cfg.cases.given == "load", settings, cfg.harmonics)
+    spinning = cfg.model_speed > 0
+    compute = partial(compute_block, tables, slice_tables, cfg.bearing.ball_exponents,
+                      cfg.bearing.speed_table if spinning else None, rpm_to_rad_s(cfg.model_speed),
+                      cfg.bearing.element_rows, cfg.cases.given == "load", settings, cfg.harmonics)
     return jobs.Job(
         kind="ball-passage table", bearing=cfg.bearing, cases=cfg.cases, variables=tuple(_variables(cfg)),
         sizes={"dof": 5, "dof_col": 5, "row": cfg.bearing.n_rows, "position": cfg.positions, "harmonic": H + 1},

@@ -21,7 +21,7 @@ import numpy as np
 
 from .api import SolveResult, solve, stiffness
 from . import validate
-from .bearing import Bearing
+from .bearing import Bearing, check_speed, check_speed_model
 from .bearing_file import bearing_from_table, load_bearing, read_toml
 
 
@@ -76,27 +76,60 @@ class Inertia:
 
 
 @dataclass(frozen=True)
+class _RowsAtSpeed:
+    """The high-speed constants of a shaft's rows, each from its own bearing's geometry
+    (Bearing.speed_table reads them row by row)."""
+
+    columns: tuple  # per row of the shaft's bearing: its speed columns (None for a roller row)
+
+    def row_speed_columns(self, row: int):
+        return self.columns[row]
+
+
+@dataclass(frozen=True)
 class Shaft:
-    """A rigid shaft with bearings, external loads and (optionally) mass properties."""
+    """A rigid shaft with bearings, external loads, (optionally) mass properties and its speed in rpm."""
 
     reference: float
     bearings: tuple[MountedBearing, ...]
     loads: tuple[PointLoad, ...] = ()
     inertia: Inertia | None = None
+    speed: float = 0.0  # rpm: above 0 every bearing's balls run the high-speed model
 
     def __post_init__(self):
         if not self.bearings:
             raise ValueError("shaft.bearings must list at least one bearing")
         if not math.isfinite(self.reference):
             raise ValueError(f"shaft.reference must be finite (mm), got {self.reference!r}")
+        check_speed(self.speed, "shaft.speed")
 
-    def as_bearing(self) -> Bearing:
-        """All rows of all bearings, moved to their axial positions relative to the reference."""
+    def check_speed_model(self) -> None:
+        """ValueError naming ``shaft.bearings[i].speed`` unless every bearing can run at speed (ball rows
+        from catalogue geometry)."""
+        for i, mb in enumerate(self.bearings):
+            try:
+                check_speed_model(mb.bearing)
+            except validate.FieldError as err:
+                raise err.within(f"shaft.bearings[{i}]") from None
+
+    def as_bearing(self, at_speed: bool = False) -> Bearing:
+        """All rows of all bearings, moved to their axial positions relative to the reference; with
+        ``at_speed`` each row keeps its own bearing's high-speed constants (every bearing needs its
+        geometry: :meth:`check_speed_model`)."""
+        if at_speed:
+            self.check_speed_model()
         rows = []
+        columns = []
         for mb in self.bearings:
             d = mb.position - self.reference
             rows += [replace(r, axial_offset=r.axial_offset + d) for r in mb.bearing.rows]
-        return Bearing.from_rows(rows, name="shaft")
+            if at_speed:
+                g = mb.bearing.geometry
+                columns += [g.row_speed_columns(i) if hasattr(g, "row_speed_columns")
+                            else g.speed_columns(r.contact_angle) for i, r in enumerate(mb.bearing.rows)]
+        if not at_speed:
+            return Bearing.from_rows(rows, name="shaft")
+        return replace(Bearing.from_rows(rows, name="shaft"), geometry=_RowsAtSpeed(tuple(columns)))
 
     def external_load(self) -> np.ndarray:
         """Sum of the external loads at the reference (N, N*mm)."""
@@ -124,6 +157,7 @@ class ShaftResult:
     K_system: np.ndarray
     bearings: tuple[BearingState, ...]
     reference: float
+    speed: float = 0.0  # rpm
 
     @property
     def q(self) -> np.ndarray:
@@ -131,27 +165,31 @@ class ShaftResult:
 
     def to_dict(self) -> dict:
         """JSON-ready: q, K_system, status, converged and per bearing position, reaction, q, K."""
-        return {"reference": self.reference, "q": self.q.tolist(), "K_system": self.K_system.tolist(),
+        return {"reference": self.reference, "speed": self.speed, "q": self.q.tolist(),
+                "K_system": self.K_system.tolist(),
                 "status": self.solution.status_name, "converged": self.solution.converged,
                 "bearings": [{"position": b.position, "reaction": b.reaction.tolist(), "q": b.q.tolist(),
                               "K": b.K.tolist()} for b in self.bearings]}
 
 
-def solve_shaft(shaft: Shaft, method: str = "newton") -> ShaftResult:
+def solve_shaft(shaft: Shaft, method: str = "newton", speed: float | None = None) -> ShaftResult:
     """Statically indeterminate equilibrium of the rigid shaft under its external loads.
 
     The reaction of each bearing is the load (Fx, Fy, Fz, Mx, My) the shaft
     puts on its inner ring, about the bearing's centre; the reactions,
-    carried to the reference, add up to the external load.
+    carried to the reference, add up to the external load. ``speed`` (rpm;
+    default the shaft's own) above 0 runs every bearing's balls at that speed
+    (fastbearing.high_speed; K_system is then not quite symmetric).
     """
-    combined = shaft.as_bearing()
-    result = solve(combined, shaft.external_load(), method=method)
+    speed = shaft.speed if speed is None else check_speed(speed, "speed")
+    combined = shaft.as_bearing(at_speed=speed > 0)
+    result = solve(combined, shaft.external_load(), method=method, speed=speed)
     states = []
     for mb in shaft.bearings:
         q_local = transfer(mb.position - shaft.reference) @ result.q
-        f, K = stiffness(mb.bearing, q_local)
+        f, K = stiffness(mb.bearing, q_local, speed=speed)
         states.append(BearingState(mb.position, q_local, f, K))
-    return ShaftResult(result, result.K, tuple(states), shaft.reference)
+    return ShaftResult(result, result.K, tuple(states), shaft.reference, speed)
 
 
 def shaft_life(shaft: Shaft, result: ShaftResult, settings=None) -> dict:
@@ -192,11 +230,14 @@ def natural_frequencies(K: np.ndarray, M: np.ndarray, diagonal_only: bool = Fals
 
     K in N/mm, N*mm/rad, N/rad and M in t, t*mm^2 give omega in rad/s.
     ``diagonal_only`` keeps only Kb's diagonal, to show what the coupling
-    terms change. Polar inertia and gyroscopic terms are not included.
+    terms change. Polar inertia and gyroscopic terms are not included; nor is the skew part of a Kb at
+    speed (about 1e-4 of it, from the friction that carries the balls' gyroscopic moment): the modes are
+    those of the symmetric part (K + K^T)/2.
     """
     from scipy.linalg import eigh
 
-    K = np.diag(np.diag(K)) if diagonal_only else np.asarray(K)
+    K = np.asarray(K)
+    K = np.diag(np.diag(K)) if diagonal_only else 0.5 * (K + K.T)
     w2, shapes = eigh(K, M)
     w2 = np.clip(w2, 0.0, None)  # a rigid-body direction the bearings do not hold gives 0 Hz
     return Modes(np.sqrt(w2) / (2 * math.pi), shapes, diagonal_only)
@@ -204,7 +245,7 @@ def natural_frequencies(K: np.ndarray, M: np.ndarray, diagonal_only: bool = Fals
 
 # -- config files -------------------------------------------------------------------
 
-_SHAFT_KEYS = {"reference", "bearings", "loads", "mass"}
+_SHAFT_KEYS = {"reference", "bearings", "loads", "mass", "speed"}
 _BEARING_KEYS = {"position", "bearing", "mirrored", "name"}
 _LOAD_KEYS = {"position", "force", "moment"}
 _MASS_KEYS = {"mass", "inertia_x", "inertia_y", "center"}
@@ -262,4 +303,8 @@ def read_shaft(config) -> Shaft:
     if not bearings:
         raise v.FieldError("shaft.bearings", "must list at least one bearing ([[shaft.bearings]] with position "
                            "and bearing)", show_value=False)
-    return Shaft(reference, tuple(bearings), tuple(loads), inertia)
+    speed = check_speed(spec.get("speed", 0.0), "shaft.speed")
+    shaft = Shaft(reference, tuple(bearings), tuple(loads), inertia, speed)
+    if speed > 0:
+        shaft.check_speed_model()
+    return shaft

@@ -331,3 +331,100 @@ def test_solve_on_the_command_line_at_speed_reports_every_ball(tmp_path):
         assert r.returncode == 2 and "--speed" in r.stderr and not r.stdout
     r = cli_run("solve", "--preset", "gunduz2013", "--load", "0,0,1000,0,0", "--speed", "1000")
     assert r.returncode == 2 and "geometry" in r.stderr
+
+
+def _spindle_passage(**passage):
+    from fastbearing.bearing_file import read_toml
+
+    doc = read_toml(SPINDLE_MAP)
+    del doc["loadmap"]
+    doc["passage"] = {"given": "load", "points": [[500.0, 0.0, 1000.0, 0.0, 0.0]], "positions": 4, **passage}
+    return doc
+
+
+def test_a_passage_table_at_speed_solves_the_high_speed_balls_at_every_cage_position(tmp_path):
+    import h5py
+
+    out = fb.passage(_spindle_passage(speed=15000.0), tmp_path / "p.h5", progress=False)
+    with h5py.File(out) as fh:
+        K, q, status = fh["K"][0], fh["q"][0], fh["status"][0]
+        angles = fh["cage_angle"][()]
+        assert fh.attrs["speed_rpm"] == 15000.0
+        # the time axis comes from the bearing's own geometry: the nominal cage speed
+        g = GEOMETRY
+        fc = 15000.0 / 120.0 * (1 - g.ball_diameter * math.cos(math.radians(SPINDLE.rows[0].contact_angle))
+                                / g.pitch_diameter)
+        assert np.allclose(fh["time"][()], angles / (2 * math.pi * fc), rtol=1e-12)
+    assert (status == 0).all()
+    load = np.array([500.0, 0.0, 1000.0, 0.0, 0.0])
+    from fastbearing.kernel import ball_loop
+
+    for p, angle in enumerate(angles):
+        balls = SPINDLE.ball_set(float(angle), speed=15000.0)
+        f, Kp = np.empty(5), np.empty((5, 5))
+        ball_loop(q[p], balls, f, Kp, None, None)
+        assert np.abs(f - load).max() <= 1e-8 * np.abs(load).max()  # the load is carried at speed
+        assert np.allclose(K[p], Kp, rtol=1e-8, atol=1e-8 * np.abs(Kp).max())
+    # zero speed is the quasi-static table bit for bit
+    a = fb.passage(_spindle_passage(), tmp_path / "a.h5", progress=False)
+    b = fb.passage(_spindle_passage(speed=0.0), tmp_path / "b.h5", progress=False)
+    with h5py.File(a) as fa, h5py.File(b) as fb_:
+        assert np.array_equal(fa["K"][()], fb_["K"][()])
+        assert not np.allclose(fa["K"][()], K[None])  # and the speed changed it
+
+
+def test_bad_passage_speeds_are_refused_naming_the_field(tmp_path):
+    with pytest.raises(ValueError, match=r"passage\.speed"):
+        fb.passage(_spindle_passage(speed=-1.0), tmp_path / "x.h5", progress=False)
+    with pytest.raises(ValueError, match=r"passage\.shaft_speed.*must equal passage\.speed"):
+        fb.passage(_spindle_passage(speed=12000.0, shaft_speed=3000.0, ball_diameter=11.112, pitch_diameter=90.0),
+                   tmp_path / "x.h5", progress=False)
+    plain = {"bearing": {"preset": "gunduz2013"}, "passage": {"points": [[0.01, 0, 0, 0, 0]], "speed": 3000.0}}
+    with pytest.raises(ValueError, match=r"passage\.speed.*geometry"):
+        fb.passage(plain, tmp_path / "x.h5", progress=False)
+    assert not list(tmp_path.iterdir())
+
+
+SPINDLE_SHAFT = Path(__file__).parent.parent / "data" / "examples" / "spindle-shaft-speed.toml"
+
+
+def test_a_shaft_at_speed_is_in_equilibrium_and_its_stiffness_is_the_sum_of_its_bearings_at_speed():
+    from fastbearing.shaft import read_shaft, solve_shaft, transfer
+
+    shaft = read_shaft(SPINDLE_SHAFT)
+    assert shaft.speed == 18000.0
+    result = solve_shaft(shaft)
+    assert result.solution.converged and result.speed == 18000.0
+    carried = sum(transfer(b.position - shaft.reference).T @ b.reaction for b in result.bearings)
+    assert np.allclose(carried, shaft.external_load(), rtol=0, atol=1e-8 * np.abs(shaft.external_load()).max())
+    K_sum = sum(transfer(b.position - shaft.reference).T @ b.K @ transfer(b.position - shaft.reference)
+                for b in result.bearings)
+    assert np.allclose(result.K_system, K_sum, rtol=1e-9, atol=1e-9 * np.abs(K_sum).max())
+    for b in result.bearings:  # each bearing's own high-speed answer
+        assert np.allclose(fb.stiffness(SPINDLE, b.q, speed=18000.0)[0], b.reaction, rtol=1e-12, atol=1e-9)
+    still = solve_shaft(shaft, speed=0.0)
+    assert still.speed == 0.0
+    assert still.bearings[0].K[0, 0] > 1.3 * result.bearings[0].K[0, 0]  # the preloaded pairs soften radially
+
+
+def test_shaft_speed_needs_every_bearing_s_geometry_and_the_command_line_reports_it(tmp_path):
+    import json
+    import subprocess
+    import sys
+
+    from fastbearing.bearing_file import read_toml
+    from fastbearing.shaft import read_shaft
+
+    doc = read_toml(SPINDLE_SHAFT)
+    doc["shaft"]["bearings"][1]["bearing"] = {"preset": "gunduz2013", "arrangement": "DB"}
+    doc["shaft"]["bearings"][0]["bearing"] = str(DATA / "7014C-DB.toml")
+    with pytest.raises(ValueError, match=r"shaft\.bearings\[1\]\.speed.*geometry"):
+        read_shaft(doc)
+    doc["shaft"]["speed"] = -5.0
+    with pytest.raises(ValueError, match=r"shaft\.speed"):
+        read_shaft(doc)
+    run = [sys.executable, "-m", "fastbearing.cli", "shaft", str(SPINDLE_SHAFT), "--json"]
+    out = json.loads(subprocess.run(run + ["--speed", "9000"], capture_output=True, text=True, check=True).stdout)
+    assert out["speed"] == 9000.0 and out["converged"]
+    bad = subprocess.run(run + ["--speed", "nan"], capture_output=True, text=True)
+    assert bad.returncode == 2 and "--speed" in bad.stderr
