@@ -347,6 +347,15 @@ def condensed(st, x00, x01, x10, x11):
     return k00, k01, k10, k11, m0, m1
 
 
+@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def _add_column(acc, c, s, z, R, k00, k01, k10, k11, m0, m1, a, b):
+    """A column of Kb plus one ball's J^T (dF/du) J + w (dm/du) J for the column (a, b) of J."""
+    ra = k00 * a + k01 * b
+    rb = k10 * a + k11 * b
+    rm = R * rb - z * ra + m0 * a + m1 * b  # moment row: d(R Fz - z Fr + m)/dq
+    return (acc[0] + c * ra, acc[1] + s * ra, acc[2] + rb, acc[3] + s * rm, acc[4] - c * rm)
+
+
 @njit(fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
 def spinning_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact_angle, states, warm):
     """Write f (5) and, unless ``K`` is None, Kb (5x5, not symmetric) of the ball rows at shaft speed.
@@ -364,10 +373,7 @@ def spinning_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact_a
     """
     n = table.shape[1]
     f0 = f1 = f2 = f3 = f4 = 0.0
-    if K is not None:
-        for i in range(5):
-            for k in range(5):
-                K[i, k] = 0.0
+    acc0 = acc1 = acc2 = acc3 = acc4 = (0.0, 0.0, 0.0, 0.0, 0.0)  # the columns of Kb
     total = 0.0
     n_loaded = 0
     flags = 0
@@ -449,20 +455,19 @@ def spinning_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact_a
             k01 *= sgn
             k10 *= sgn
             m0 *= sgn
-            # rows of J: a = d(ur)/dq, b = d(uz)/dq (bearing frame), w maps the friction's moment
-            a = (c, s, 0.0, -z * s, z * c)
-            b = (0.0, 0.0, 1.0, R * s, -R * c)
-            for col in range(5):
-                ra = k00 * a[col] + k01 * b[col]
-                rb = k10 * a[col] + k11 * b[col]
-                rw = m0 * a[col] + m1 * b[col]
-                # moment row: d(R Fz - z Fr + m)/dq
-                rm = R * rb - z * ra + rw
-                K[0, col] += c * ra
-                K[1, col] += s * ra
-                K[2, col] += rb
-                K[3, col] += s * rm
-                K[4, col] -= c * rm
+            # columns of J: a = d(ur)/dq, b = d(uz)/dq (bearing frame); the sums stay in registers
+            acc0 = _add_column(acc0, c, s, z, R, k00, k01, k10, k11, m0, m1, c, 0.0)
+            acc1 = _add_column(acc1, c, s, z, R, k00, k01, k10, k11, m0, m1, s, 0.0)
+            acc2 = _add_column(acc2, c, s, z, R, k00, k01, k10, k11, m0, m1, 0.0, 1.0)
+            acc3 = _add_column(acc3, c, s, z, R, k00, k01, k10, k11, m0, m1, -z * s, R * s)
+            acc4 = _add_column(acc4, c, s, z, R, k00, k01, k10, k11, m0, m1, z * c, -R * c)
+    if K is not None:
+        for i in range(5):
+            K[i, 0] = acc0[i]
+            K[i, 1] = acc1[i]
+            K[i, 2] = acc2[i]
+            K[i, 3] = acc3[i]
+            K[i, 4] = acc4[i]
     f[0] = f0
     f[1] = f1
     f[2] = f2
