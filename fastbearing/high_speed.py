@@ -365,7 +365,8 @@ def spinning_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact_a
     exact contact law). Each ball's centre is settled by :func:`settle_ball`; the ring gets its inner
     contact's force (and the friction's moment) through the same J = [a; b] as the quasi-static ball,
     and Kb += J^T (dF/du) J + w (dm/du) J per ball with w = (0, 0, 0, sin psi, -cos psi).
-    ``ball_load``/``contact_angle`` record Q_i (N) and alpha_i (rad, positive on the row's direction);
+    ``ball_load``/``contact_angle`` record Q_i (N) and alpha_i (rad, positive on the row's direction), and
+    in a record of 2 n_balls Q_o and alpha_o after them (a load map's life at speed);
     ``states`` (n_balls, N_STATE) or None records the whole ball. ``warm`` (N_WARM, n_balls) or None: each
     ball starts from its last settled centre moved by the first-order prediction (rows WARM_*), and
     leaves its new one there. Returns (sum of Q_i in N, loaded balls,
@@ -426,6 +427,9 @@ def spinning_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact_a
         if ball_load is not None:
             ball_load[j] = Qi
             contact_angle[j] = math.atan2(si, st[27])
+            if ball_load.shape[0] >= 2 * n:  # a record with room for them: the outer contacts too
+                ball_load[n + j] = st[26]
+                contact_angle[n + j] = math.atan2(st[30], st[29])
         if states is not None:
             states[j, STATE_INNER_LOAD] = Qi
             states[j, STATE_OUTER_LOAD] = st[26]

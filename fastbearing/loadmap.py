@@ -114,10 +114,6 @@ def read_config(config) -> LoadMapConfig:
         except validate.FieldError as err:
             raise err.within("loadmap") from None
     life_settings = read_life(spec.get("life"), "loadmap.life")
-    if life_settings is not None and cases.max_speed > 0:
-        raise validate.FieldError("loadmap.life", "is not available in load maps at speed above 0 rpm yet (the "
-                                  "map's record keeps the inner contacts only); use solve --life --speed per "
-                                  "operating point", show_value=False)
     if life_settings is not None:
         ratings(bearing)  # a bearing without geometry has no rating: said before anything runs
     return LoadMapConfig(bearing, cases, chunk, compression, method, rtol, max_iter, text, source,

@@ -304,9 +304,28 @@ def test_bad_map_speeds_are_refused_before_anything_runs(tmp_path):
     paper["loadmap"] = {"given": "load", "Fz": 500.0, "speed": 1000.0}
     with pytest.raises(ValueError, match=r"loadmap.*speed.*geometry"):
         fb.loadmap(paper, tmp_path / "y.h5", progress=False)
-    with pytest.raises(ValueError, match="loadmap.life"):
-        fb.loadmap(_spindle_config(speed=1000.0, Fz=500.0, life=True), tmp_path / "z.h5", progress=False)
     assert not any(tmp_path.iterdir())
+
+
+def test_a_life_map_at_speed_takes_each_ring_s_own_contacts(tmp_path):
+    """L10r in a map over speed = the single-case life at speed (inner ring rotating: the cubic mean of the
+    inner contacts, the 10/3 mean of the outer ones), and at 0 rpm the quasi-static life."""
+    from fastbearing import life as L
+
+    for rotating in ("inner", "outer"):
+        cfg = _spindle_config(speed=[0.0, 16000.0], Fx=[300.0, 1500.0], Fz={"start": 200.0, "stop": 1500.0, "num": 3},
+                              life={"rotating": rotating})
+        ds = fb.open_dataset(fb.loadmap(cfg, tmp_path / f"life-{rotating}.h5", progress=False))
+        F, q = ds["f"].values.reshape(-1, 5), ds["q"].values.reshape(-1, 5)
+        speeds = np.repeat([0.0, 16000.0], len(F) // 2)
+        L10r = ds["L10r"].values.ravel()
+        for i in range(len(F)):
+            settings = L.LifeSettings(rotating=rotating, speed=speeds[i] or None, balls_at_speed=speeds[i] > 0)
+            ref = L.life(SPINDLE, F[i], q[i], settings)
+            assert L10r[i] == pytest.approx(ref.L10r, rel=1e-9), (rotating, i)
+            assert ds["L10r_row"].values.reshape(len(F), -1)[i] == pytest.approx(ref.L10r_row, rel=1e-9)
+        half = len(F) // 2
+        assert not np.allclose(L10r[:half], L10r[half:])  # the speed changed the lives
 
 
 def test_solve_on_the_command_line_at_speed_reports_every_ball(tmp_path):
