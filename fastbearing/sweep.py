@@ -152,8 +152,9 @@ LIFE_CI, LIFE_CE, LIFE_Z, LIFE_INNER, LIFE_X0, LIFE_Y0, LIFE_SLICES, LIFE_FIRST 
 @njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True)
 def case_life(ball_load, outer_load, ball_row, life, sums, L_row):
     """ISO/TS 16281 L10r (million revolutions) of one case from its ball loads (N); fills ``L_row`` per row.
-    ``ball_load`` are the inner contacts' loads and ``outer_load`` the outer contacts' (the same array at
-    rest; at speed the centrifugal force loads the outer race more): each ring's mean comes from its own.
+    ``ball_load`` are the inner contacts' loads and ``outer_load`` the outer contacts' at speed, where the
+    centrifugal force loads the outer race more (each ring's mean then comes from its own contacts), or
+    None at rest (one load per ball: one loop, one cube per ball).
 
     With Q_ei, Q_ee the cubic and 10/3 means over a row's Z balls (rotating and stationary ring),
     (Q_c/Q_e)^(-10/3) is Q_c^(-10/3) (S3/Z)^(10/9) for the cubic mean and Q_c^(-10/3) S10/Z for the other
@@ -165,16 +166,24 @@ def case_life(ball_load, outer_load, ball_row, life, sums, L_row):
     for r in range(n_rows):
         sums[r, 0] = 0.0
         sums[r, 1] = 0.0
-    for j in range(ball_row.shape[0]):
-        r = ball_row[j]
-        # the rotating ring's loads take the cubic mean, the stationary ring's the 10/3 mean
-        inner_rotates = life[r, LIFE_INNER] != 0.0
-        Qr = ball_load[j] if inner_rotates else outer_load[j]
-        Qs = outer_load[j] if inner_rotates else ball_load[j]
-        if Qr > 0.0:
-            sums[r, 0] += Qr * Qr * Qr
-        if Qs > 0.0:
-            sums[r, 1] += Qs * Qs * Qs * cube_root(Qs)
+    if outer_load is None:
+        for j in range(ball_row.shape[0]):
+            Q = ball_load[j]
+            if Q > 0.0:
+                cube = Q * Q * Q
+                sums[ball_row[j], 0] += cube
+                sums[ball_row[j], 1] += cube * cube_root(Q)
+    else:
+        for j in range(ball_row.shape[0]):
+            r = ball_row[j]
+            # the rotating ring's loads take the cubic mean, the stationary ring's the 10/3 mean
+            inner_rotates = life[r, LIFE_INNER] != 0.0
+            Qr = ball_load[j] if inner_rotates else outer_load[j]
+            Qs = outer_load[j] if inner_rotates else ball_load[j]
+            if Qr > 0.0:
+                sums[r, 0] += Qr * Qr * Qr
+            if Qs > 0.0:
+                sums[r, 1] += Qs * Qs * Qs * cube_root(Qs)
     total = 0.0
     for r in range(n_rows):
         cubic = (sums[r, 0] / life[r, LIFE_Z]) ** (10.0 / 9.0)
@@ -347,7 +356,7 @@ def map_sweep(inputs, given_load, segments, q, f, K, status, iterations, residua
                             L10r[i] = case_life(ball_load, ball_load[n_elements:], ball_row, life, sums,
                                                 L10r_row[i])
                         else:
-                            L10r[i] = case_life(ball_load, ball_load, ball_row, life, sums, L10r_row[i])
+                            L10r[i] = case_life(ball_load, None, ball_row, life, sums, L10r_row[i])
                         safety[i] = static_safety(inputs[i] if given_load else f[i], life, C0)
                     else:
                         L10r[i] = np.nan
