@@ -111,6 +111,28 @@ def test_a_warm_started_ball_settles_where_a_cold_one_does():
         q_last = q
 
 
+def test_random_loads_and_speeds_converge_honestly_on_every_shipped_ball_bearing():
+    """solve_many (warm-started balls, two threads) over random combined loads and speeds up to 40 000 rpm:
+    a converged case carries its load at speed and every ball is in equilibrium (to 1e-10 of its forces,
+    or for an all-but-unloaded ball to the rounding floor, 1e-9 N); nothing else is called converged."""
+    rng = np.random.default_rng(11)
+    for name in ("6305.toml", "3306.toml", "7014C-DB.toml"):
+        for arrangement, b in _arrangements(fb.load_bearing(DATA / name).geometry).items():
+            loads = np.column_stack([rng.uniform(-1, 1, (8, 2)) * 1500.0, rng.uniform(100, 2000, 8),
+                                     rng.uniform(-1, 1, (8, 2)) * 2e4])
+            if arrangement in ("DB", "DF"):
+                loads[::2, 2] *= -1.0
+            speeds = rng.uniform(0.0, 40000.0, len(loads))
+            out = fb.solve_many(b, loads, speed=speeds, threads=2)
+            assert out.converged.mean() > 0.5, (name, arrangement)
+            for i in np.flatnonzero(out.converged):
+                f, _ = fb.stiffness(b, out.q[i], speed=speeds[i])
+                assert np.abs(f - loads[i]).max() <= 1e-8 * np.abs(loads[i]).max(), (name, arrangement, i)
+                c = ball_contacts(b, out.q[i], speed=speeds[i])
+                absolute = c.equilibrium_residual * (c.inner_load + c.outer_load + np.abs(c.centrifugal_force))
+                assert np.all((c.equilibrium_residual <= 1e-10) | (absolute <= 1e-9)), (name, arrangement, i)
+
+
 def _harris_ball(A1, A2, p, omega):
     """One ball by Harris's equations (Advanced Concepts, ch. 3) in his variables X1 (axial), X2 (radial),
     delta_i, delta_o, solved with scipy, outer-raceway control, outer ring fixed: written from the
