@@ -29,3 +29,32 @@ def test_startup(benchmark, tmp_path):
     benchmark.pedantic(run, rounds=3)  # warm
     if not benchmark.disabled:  # --benchmark-disable: a smoke run, no figures
         benchmark.extra_info.update(cold_s=cold, warm_s=benchmark.stats.stats.median)
+
+
+FLOOR_MODULE = "from numba import njit\n\n\n@njit(cache=True)\ndef one(x):\n    return x + 1.0\n"
+
+
+@pytest.mark.benchmark(group="start-up to the first solve, whole process")
+def test_numba_floor(benchmark, tmp_path):
+    """The floor under any numba program here: import numba and call one trivial cached function (warm
+    cache). fastbearing's warm start-up above cannot go below it without leaving numba's runtime."""
+    (tmp_path / "floor.py").write_text(FLOOR_MODULE)
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "numba-cache"), "PYTHONPATH": str(tmp_path)}
+
+    def run():
+        subprocess.run([sys.executable, "-c", "import floor; floor.one(1.0)"], env=env, check=True, timeout=120)
+
+    run()  # fill the cache
+    benchmark.pedantic(run, rounds=3)
+
+
+@pytest.mark.benchmark(group="start-up: fastbearing --help, whole process")
+def test_help(benchmark):
+    """The command line's parser loads no numba, scipy or h5py (the package's names load on first use)."""
+
+    def run():
+        out = subprocess.run([sys.executable, "-m", "fastbearing.cli", "--help"], check=True, timeout=60,
+                             capture_output=True, text=True)
+        assert "loadmap" in out.stdout
+
+    benchmark.pedantic(run, rounds=5)

@@ -5,35 +5,63 @@ full 5x5 stiffness matrix Kb of single-row, double-row (DB, DF, DT) and
 general sets of rows, given the displacement q or the load f.
 
 Units: N, mm, rad. q = (dx, dy, dz, bx, by); f = (Fx, Fy, Fz, Mx, My).
+
+The public names below are imported on first use (PEP 562), so that
+``import fastbearing`` and ``fastbearing --help`` do not load numba, scipy
+or h5py before a command needs them.
 """
 
+import sys
+import types
+from importlib import import_module
 from importlib.metadata import PackageNotFoundError, version
 
-from ._cache import ensure_fresh
-
-ensure_fresh()
-
-# isort: split
-
 from . import status
-from .api import (SolveManyResult, SolveResult, ball_loads, num_threads, solve, solve_many, stiffness,
-                  stiffness_many)
-from .bearing import ARRANGEMENTS, Bearing, Row, preset_names
-from .bearing_file import bearing_from_table, load_bearing
-from .contacts import BallContacts, ball_contacts
-from .geometry import (MATERIALS, SILICON_NITRIDE, STEEL, Geometry, HertzContact, Material, geometry_from_table,
-                       hertz_contact, race_contacts)
-from .life import LifeResult, rating_life
-from .loadmap import loadmap, open_dataset
-from .passage import passage
+
+#: Public name -> the module that defines it.
+_PUBLIC = {
+    **dict.fromkeys(("SolveManyResult", "SolveResult", "ball_loads", "num_threads", "solve", "solve_many",
+                     "stiffness", "stiffness_many"), "api"),
+    **dict.fromkeys(("ARRANGEMENTS", "Bearing", "Row", "preset_names"), "bearing"),
+    **dict.fromkeys(("bearing_from_table", "load_bearing"), "bearing_file"),
+    **dict.fromkeys(("BallContacts", "ball_contacts"), "contacts"),
+    **dict.fromkeys(("MATERIALS", "SILICON_NITRIDE", "STEEL", "Geometry", "HertzContact", "Material",
+                     "geometry_from_table", "hertz_contact", "race_contacts"), "geometry"),
+    **dict.fromkeys(("LifeResult", "rating_life"), "life"),
+    **dict.fromkeys(("loadmap", "open_dataset"), "loadmap"),
+    "passage": "passage",
+}
 
 try:
     __version__ = version("fastbearing")
 except PackageNotFoundError:  # running from a source tree
     __version__ = "0+unknown"
 
-__all__ = ["ARRANGEMENTS", "Bearing", "Row", "SolveManyResult", "SolveResult", "ball_loads", "bearing_from_table",
-           "load_bearing", "loadmap", "num_threads", "open_dataset", "passage", "preset_names", "solve", "solve_many", "status", "stiffness",
-           "stiffness_many", "MATERIALS", "STEEL", "SILICON_NITRIDE", "BallContacts", "Geometry", "HertzContact",
-           "Material", "ball_contacts", "geometry_from_table", "hertz_contact", "race_contacts", "LifeResult",
-           "rating_life"]
+__all__ = ["status", *_PUBLIC]
+
+
+def __getattr__(name):
+    module = _PUBLIC.get(name)
+    if module is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(import_module(f".{module}", __name__), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_PUBLIC))
+
+
+class _Package(types.ModuleType):
+    """``fastbearing.loadmap`` and ``fastbearing.passage`` are functions named like their modules: importing
+    the module must not replace the function (the import system sets the package's attribute to the
+    submodule), so the function is looked up on demand instead."""
+
+    def __setattr__(self, name, value):
+        if isinstance(value, types.ModuleType) and name in _PUBLIC and _PUBLIC[name] == name:
+            return
+        super().__setattr__(name, value)
+
+
+sys.modules[__name__].__class__ = _Package

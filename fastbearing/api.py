@@ -17,10 +17,10 @@ from . import config, status as st, validate
 from .bearing import Bearing, check_speed, check_speed_model
 from .dofs import DISPLACEMENT_NAMES, DISPLACEMENT_UNITS, LOAD_NAMES, LOAD_UNITS  # noqa: F401 (public names)
 from .kernel import ball_loop
-from .solver import BROYDEN, NEWTON, WORK_ROWS, SolverSettings, solve_case
+from .config import METHODS, NEWTON
+from .solver import WORK_ROWS, SolverSettings, solve_case
 from .sweep import solve_sweep, stiffness_sweep
 
-METHODS = {"newton": NEWTON, "broyden": BROYDEN}
 
 
 @dataclass(frozen=True)

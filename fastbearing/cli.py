@@ -13,10 +13,9 @@ import sys
 
 import numpy as np
 
-from .api import METHODS, solve, stiffness
 from .bearing import ARRANGEMENTS, preset_names
 from .bearing_file import load_bearing, preset_bearing
-from .contacts import ball_contacts
+from .config import METHODS
 from .dofs import DISPLACEMENT_NAMES, LOAD_NAMES
 from .export import FORMATS as EXPORT_FORMATS
 from .files import DiskFull, OutputExists
@@ -339,6 +338,7 @@ def _optional(run):
 @_optional
 def _plot(args) -> int:
     from . import plot
+    from .api import solve
 
     size = _size(args.size) if args.size else None
     opts = dict(out=args.output, overwrite=args.overwrite, size=size, dpi=args.dpi)
@@ -702,6 +702,9 @@ def _table(result: dict) -> str:
 
 
 def _solve(args) -> int:
+    from .api import solve, stiffness
+    from .contacts import ball_contacts
+
     bearing = _bearing(args)
     if not args.life and (args.kappa is not None or args.rotating != "inner" or args.contamination != 1.0):
         raise ValueError("--rotating, --kappa and --contamination go with --life")

@@ -14,7 +14,26 @@ needs no branch (which would also block vectorisation).
 FASTMATH = False
 KERNEL_FASTMATH = {"reassoc", "contract", "nsz", "arcp"}
 ERROR_MODEL = "numpy"
-CACHE = True
+
+
+def __getattr__(name):
+    # CACHE (numba's on-disk cache: on) is what every module with cached kernels imports from here, so
+    # looking it up is the moment to drop machine code built from other sources (_cache.ensure_fresh):
+    # before the first cached kernel can load. Modules without kernels (the command line's parser) import
+    # this file without paying for numba.
+    if name == "CACHE":
+        from ._cache import ensure_fresh
+
+        ensure_fresh()
+        globals()["CACHE"] = True
+        return True
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+#: The load-given solvers by name (solver.py: damped Newton, or Broyden's secant updates).
+NEWTON = 0
+BROYDEN = 1
+METHODS = {"newton": NEWTON, "broyden": BROYDEN}
 
 #: Relative residual at which a load-given solve is declared converged, and its allowed range.
 RTOL = 1e-10

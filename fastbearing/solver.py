@@ -34,15 +34,12 @@ from collections import namedtuple
 
 from numba import njit
 
-from .config import (CACHE, DIVERGED_REACH, ERROR_MODEL, FASTMATH, SEARCH_CURVATURE, SEARCH_TRIALS,
+from .config import (CACHE, DIVERGED_REACH, ERROR_MODEL, FASTMATH, NEWTON, SEARCH_CURVATURE, SEARCH_TRIALS,
                      SMOOTHING_FIRST, SMOOTHING_LAST, SMOOTHING_RATIO, SMOOTHING_RTOL, STAGNATION_ITERATIONS)
 from .kernel import ball_loop
 from .linalg import cholesky_solve, lu_solve
 from .status import (BALL_EQUILIBRIUM, BALL_UNSETTLED, CONVERGED, ITERATION_LIMIT, NONFINITE_INPUT,
                      NONFINITE_RESULT, PRECISION_LIMIT, SINGULAR, STALLED, UNLOADED, WARNING_MASK)
-
-NEWTON = 0
-BROYDEN = 1
 
 #: The solver's settings, one record: ``method`` (NEWTON or BROYDEN), ``rtol`` (relative residual),
 #: ``max_iter`` (iterations per phase), ``length_scale`` (L in mm: moments are divided by it in the
