@@ -306,14 +306,16 @@ def _dmig_real(value: float) -> str:
 
 
 def write_dmig(path, K, grid: int, name: str = "KBRG", ground_grid: int | None = None, overwrite=False) -> Path:
-    """Nastran DMIG bulk data (large field, symmetric, real double precision) for one 5x5 Kb.
+    """Nastran DMIG bulk data (large field, real double precision) for one 5x5 Kb.
 
     Units: fastbearing's N, mm, rad are Nastran's consistent N-mm-t-s system,
     so Kb goes in unchanged (N/mm, N*mm/rad, N/rad). The matrix acts on
     components 1-5 of ``grid`` (the inner ring / shaft node, outer ring
     grounded); with ``ground_grid`` it is written as the 10x10 spring
     [[K, -K], [-K, K]] between the two grids. Reference it in case control
-    as K2GG = NAME. Only the upper triangle is written (IFO = 6).
+    as K2GG = NAME. A symmetric Kb is written as its upper triangle (IFO = 6); a Kb that is not (at
+    shaft speed: the friction of the balls' gyroscopic moments) as the whole square matrix (IFO = 1),
+    so nothing of it is lost.
     """
     path = Path(path)
     _check_output(path, overwrite)
@@ -326,6 +328,7 @@ def write_dmig(path, K, grid: int, name: str = "KBRG", ground_grid: int | None =
         if g is not None and (isinstance(g, bool) or not isinstance(g, (int, np.integer)) or g < 1):
             raise ValueError(f"{label} must be a positive integer grid id, got {g!r}")
     k = Ks[0]
+    symmetric = np.array_equal(k, k.T) or np.abs(k - k.T).max() <= 1e-13 * np.abs(k).max()
     dofs = [(grid, c) for c in NASTRAN_COMPONENTS]
     big = k
     if ground_grid is not None:
@@ -334,9 +337,10 @@ def write_dmig(path, K, grid: int, name: str = "KBRG", ground_grid: int | None =
     lines = [f"$ fastbearing bearing stiffness Kb, DOF order {', '.join(DOF)} -> components 1-5",
              "$ units (Nastran N-mm-t-s system): N/mm among x, y, z; N*mm/rad among",
              "$ tx, ty; N/rad between translations and tilts",
-             f"DMIG    {name:<8s}       0       6       2       0"]
+             f"DMIG    {name:<8s}       0{6 if symmetric else 1:>8d}       2       0"]
     for j, (gj, cj) in enumerate(dofs):
-        entries = [(gi, ci, big[i, j]) for i, (gi, ci) in enumerate(dofs) if i <= j and big[i, j] != 0.0]
+        entries = [(gi, ci, big[i, j]) for i, (gi, ci) in enumerate(dofs)
+                   if (i <= j or not symmetric) and big[i, j] != 0.0]
         if not entries:
             continue
         # large-field cards; a blank field 10 and a leading "*" mark each continuation line
@@ -347,7 +351,8 @@ def write_dmig(path, K, grid: int, name: str = "KBRG", ground_grid: int | None =
 
 
 def read_dmig(path) -> dict:
-    """Parse what :func:`write_dmig` writes: {(grid_i, comp_i, grid_j, comp_j): value}, upper triangle."""
+    """Parse what :func:`write_dmig` writes: {(grid_i, comp_i, grid_j, comp_j): value} (the upper triangle
+    of a symmetric matrix, every entry of another)."""
     out = {}
     column = None
     for line in Path(path).read_text().splitlines():

@@ -2,6 +2,7 @@
 
 import json
 import warnings
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -39,6 +40,20 @@ def test_dmig_round_trip_one_grid(tmp_path):
         assert gi == gj == 101 and ci <= cj
         back[ci - 1, cj - 1] = back[cj - 1, ci - 1] = value
     np.testing.assert_allclose(back, K, rtol=1e-9, atol=1e-9 * np.abs(K).max())
+
+
+def test_dmig_keeps_every_entry_of_a_kb_at_speed(tmp_path):
+    """Kb at shaft speed is not symmetric (the friction of the balls' gyroscopic moments): written as the
+    whole square matrix (IFO = 1), nothing lost."""
+    spindle = fb.load_bearing(Path(__file__).resolve().parents[1] / "data" / "bearings" / "7014C-DB.toml")
+    K_speed = fb.solve(spindle, (500.0, 0.0, 1000.0, 0.0, 0.0), speed=18000.0).K
+    assert not np.allclose(K_speed, K_speed.T, rtol=0, atol=1e-9 * np.abs(K_speed).max())
+    path = ex.write_dmig(tmp_path / "k.dmig", K_speed, grid=7)
+    assert path.read_text().splitlines()[3].startswith("DMIG    KBRG           0       1       2       0")
+    back = np.zeros((5, 5))
+    for (gi, ci, gj, cj), value in ex.read_dmig(path).items():
+        back[ci - 1, cj - 1] = value
+    np.testing.assert_allclose(back, K_speed, rtol=1e-9, atol=1e-9 * np.abs(K_speed).max())
 
 
 def test_dmig_two_grids_is_a_spring_between_them(tmp_path):
