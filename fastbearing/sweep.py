@@ -98,8 +98,7 @@ def solve_sweep(f_targets, q, f, K, status, iterations, residual, evaluations, b
         spin = warm_scratch(balls[4])
         for i in range(b * block, min(n, (b + 1) * block)):
             out = solve_case(f_targets[i], q[i], f[i], K[i], at_speed(balls, speeds, i, spin, True), settings, warm,
-                             work,
-                             None, None)
+                             work, None, None)
             status[i] = out.status
             iterations[i] = out.iterations
             residual[i] = out.residual
