@@ -708,7 +708,15 @@ def _solve(args) -> int:
     bearing = _bearing(args)
     if not args.life and (args.kappa is not None or args.rotating != "inner" or args.contamination != 1.0):
         raise ValueError("--rotating, --kappa and --contamination go with --life")
-    speed, life_speed = _speed_option(args.speed, bearing, args.life)
+    from .bearing import check_speed_model
+
+    def check_model():
+        try:
+            check_speed_model(bearing)
+        except ValueError as err:
+            raise ValueError(str(err).replace("speed above", "--speed above", 1)) from None
+
+    speed, life_speed = _speed_option(args.speed, args.life, bool(bearing.roller_rows), check_model)
     settings = None
     if args.life:
         from .life import LifeSettings, ratings
@@ -752,38 +760,27 @@ def _solve(args) -> int:
 
 
 def _shaft_speed(args, shaft) -> tuple[float, float]:
-    """(the model's speed, the speed for lives in hours) of ``shaft``: --speed, else [shaft] speed. With
-    --speed and --life, a shaft with roller rows runs quasi-statically (said on stderr), as solve does."""
-    from .bearing import check_speed
-
+    """(the model's speed, the speed for lives in hours) of ``shaft``: --speed (as :func:`_speed_option`),
+    else [shaft] speed."""
     if args.speed is None:
         return shaft.speed, shaft.speed
-    speed = check_speed(args.speed, "--speed")
-    if speed > 0 and args.life and any(mb.bearing.roller_rows for mb in shaft.bearings):
-        print("fastbearing: note: the high-speed model covers ball rows; a bearing on this shaft has roller rows, "
-              "so the shaft is solved quasi-statically and --speed gives the lives in hours", file=sys.stderr)
+    return _speed_option(args.speed, args.life, any(mb.bearing.roller_rows for mb in shaft.bearings),
+                         shaft.check_speed_model, "a bearing on this shaft has")
+
+
+def _speed_option(value, life: bool, rollers: bool, check_model, subject: str = "this bearing has"):
+    """--speed in rpm, checked before any kernel runs (finite, >= 0; above 0 only where ``check_model()``
+    passes): (the model's speed, the speed for lives in hours). With roller rows (``rollers``) and --life
+    the solve stays quasi-static and the speed gives the lives in hours only (said on stderr)."""
+    from .bearing import check_speed
+
+    speed = check_speed(value, "--speed")
+    if speed > 0 and rollers and life:
+        print(f"fastbearing: note: the high-speed model covers ball rows; {subject} roller rows, so it is "
+              "solved quasi-statically and --speed gives the lives in hours", file=sys.stderr)
         return 0.0, speed
     if speed > 0:
-        shaft.check_speed_model()
-    return speed, speed
-
-
-def _speed_option(value, bearing, life: bool) -> tuple[float, float]:
-    """--speed in rpm, checked before any kernel runs (finite, >= 0; above 0 only for a bearing the
-    high-speed model can take): (the model's speed, the speed for lives in hours). A bearing with roller
-    rows runs quasi-statically and takes the speed for hours only (with --life; said on stderr)."""
-    from .bearing import check_speed, check_speed_model
-
-    try:
-        speed = check_speed(value, "--speed")
-        if speed > 0 and bearing.roller_rows and life:
-            print("fastbearing: note: the high-speed model covers ball rows; this bearing has roller rows, so it "
-                  "is solved quasi-statically and --speed gives the lives in hours", file=sys.stderr)
-            return 0.0, speed
-        if speed > 0:
-            check_speed_model(bearing)
-    except ValueError as err:
-        raise ValueError(str(err).replace("speed above", "--speed above", 1)) from None
+        check_model()
     return speed, speed
 
 
