@@ -38,6 +38,7 @@ import math
 from numba import njit
 
 from .config import ERROR_MODEL, KERNEL_FASTMATH
+from .trig import atan2
 
 # Rows of the per-ball high-speed table (column j is ball j, aligned with the ball table).
 (INNER_RADIUS, OUTER_RADIUS, K_INNER, K_OUTER, MASS_RADIUS, INERTIA, GAMMA, LAMBDA_INNER, LAMBDA_OUTER,
@@ -426,15 +427,15 @@ def spinning_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact_a
         total += Qi
         if ball_load is not None:
             ball_load[j] = Qi
-            contact_angle[j] = math.atan2(si, st[27])
+            contact_angle[j] = atan2(si, st[27])
             if ball_load.shape[0] >= 2 * n:  # a record with room for them: the outer contacts too
                 ball_load[n + j] = st[26]
-                contact_angle[n + j] = math.atan2(st[30], st[29])
+                contact_angle[n + j] = atan2(st[30], st[29])
         if states is not None:
             states[j, STATE_INNER_LOAD] = Qi
             states[j, STATE_OUTER_LOAD] = st[26]
-            states[j, STATE_INNER_ANGLE] = math.atan2(si, st[27])
-            states[j, STATE_OUTER_ANGLE] = math.atan2(st[30], st[29])
+            states[j, STATE_INNER_ANGLE] = atan2(si, st[27])
+            states[j, STATE_OUTER_ANGLE] = atan2(st[30], st[29])
             states[j, STATE_CENTRIFUGAL] = st[31]
             states[j, STATE_GYROSCOPIC] = st[32]
             states[j, STATE_ORBITAL_SPEED] = st[33]

@@ -22,6 +22,7 @@ from .config import CACHE, ERROR_MODEL, KERNEL_FASTMATH
 from .high_speed import spinning_balls
 from .roots import ninth_root
 from .status import BALL_UNSETTLED, BEYOND_VALIDITY, CONTACT_REVERSED
+from .trig import atan2
 
 #: The running sums of f (5) and the 14 independent Kb entries, at zero.
 ZERO_SUMS = (0.0,) * 19
@@ -283,7 +284,7 @@ def quasi_static_balls(q, table, exponent, smoothing, f, K, ball_load, contact_a
         n_beyond += delta > limit[j]
         if ball_load is not None:
             ball_load[j] = Q
-            contact_angle[j] = math.atan2(direction[j] * uz, ur)
+            contact_angle[j] = atan2(direction[j] * uz, ur)
         total += Q
         inv_a = A_plus * inv
         g = Q * inv_a
