@@ -568,9 +568,13 @@ def solve_case(f_target, q, f, K, balls, settings, warm, work, ball_load, contac
         iterations += it
         evals += ev
     floor = work[_FLOOR, 0]
-    if ball_load is not None or settings.method != NEWTON or status != CONVERGED:
-        # Newton's last accepted step already left f and Kb at q; otherwise evaluate once more
-        total, n_loaded, warn = ball_loop(q, balls, f, K, ball_load, contact_angle)
+    newton_done = settings.method == NEWTON and status == CONVERGED
+    if not newton_done or ball_load is not None:
+        if newton_done:
+            # Newton's last accepted step already left f and Kb at q: the record alone (Kb would cost a third)
+            total, n_loaded, warn = ball_loop(q, balls, f, None, ball_load, contact_angle)
+        else:
+            total, n_loaded, warn = ball_loop(q, balls, f, K, ball_load, contact_angle)
         evals += 1
         rmax, r2 = _scaled_residual(f, f_target, D, work[_G])
     if not _all_finite(q, f, K):
