@@ -381,3 +381,26 @@ def test_ctrl_c_stops_quickly_and_leaves_a_resumable_file(tmp_path):
     assert not out.exists()
     loadmap(cfg, out, resume=True, progress=False)
     assert open_dataset(out)["status"].size == 60 * 40 * 50
+
+
+def test_curved_predictor_is_one_order_better_than_the_tangent():
+    """Along a line of loads the map starts each case from its neighbours: the tangent start's error
+    falls as h^2 with the load step h, the parabola's (sweep.curved_predictor) as h^3."""
+    from fastbearing.sweep import curved_predictor, tangent_predictor
+
+    bearing = fb.Bearing.preset("gunduz2013", "DB")
+    base, line = np.array([1000.0, 0.0, 3000.0, 0.0, -20000.0]), np.array([0.0, 0.0, 0.0, 0.0, 1.0])
+    errors = {"tangent": [], "curved": []}
+    for h in (8000.0, 4000.0, 2000.0):
+        loads = [base + k * h * line for k in range(3)]
+        solved = [fb.solve(bearing, F) for F in loads]
+        q = np.empty(5)
+        tangent_predictor(True, loads[2], solved[1].q, solved[1].f, solved[1].K, q, np.empty((7, 5)))
+        errors["tangent"].append(np.abs((q - solved[2].q) * D).max())
+        curved_predictor(loads[2], loads[1], loads[0], solved[1].q, solved[0].q, q)
+        errors["curved"].append(np.abs((q - solved[2].q) * D).max())
+    for name, order in (("tangent", 2), ("curved", 3)):
+        e = np.array(errors[name])
+        rates = np.log2(e[:-1] / e[1:])
+        assert (np.abs(rates - order) < 0.35).all(), (name, rates)
+    assert errors["curved"][-1] < 0.1 * errors["tangent"][-1]
