@@ -38,6 +38,7 @@ import math
 from numba import njit
 
 from .config import ERROR_MODEL, KERNEL_FASTMATH
+from .roots import cube_root
 from .trig import atan2
 
 # Rows of the per-ball high-speed table (column j is ball j, aligned with the ball table).
@@ -77,6 +78,16 @@ def _race(L, r0, k, smoothing_eps):
         slope = 1.0
     sq = math.sqrt(delta)
     return delta, k * delta * sq, 1.5 * k * sq * slope
+
+
+@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def _hertz_deflection(Q, k):
+    """The deflection (Q/k)^(2/3) (mm) of a Hertz contact carrying Q >= 0 (N): a cube root squared
+    (libm's pow cost a free ball's every evaluation about 40 ns)."""
+    if Q <= 0.0:
+        return 0.0
+    c = cube_root(Q / k)
+    return c * c
 
 
 @njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
@@ -231,7 +242,7 @@ def start_position(ur, uz, p, w_i, w_o, smoothing_eps):
     wm = 0.5 * (w_i * (1.0 - gamma * cos_a) + w_o * (1.0 + gamma * cos_a))
     Fc = p[MASS_RADIUS] * wm * wm
     if delta <= 0.0:
-        br = ro + (Fc / Ko) ** (2.0 / 3.0)
+        br = ro + _hertz_deflection(Fc, Ko)
         vr = ur - br
         if Fc == 0.0:  # standing still, out of contact: on the line O-I, touching the outer race
             return ro * ur / A, ro * uz / A, False
@@ -240,8 +251,8 @@ def start_position(ur, uz, p, w_i, w_o, smoothing_eps):
     d_o = p[OUTER_SHARE] * max(delta, 0.0)
     Q = Ko * d_o * math.sqrt(d_o)
     Qi = max(Q, 0.25 * Fc)
-    Ro = ro + ((Qi + Fc) / Ko) ** (2.0 / 3.0)  # delta = (Q/K)^(2/3)
-    Ri = ri + (Qi / Ki) ** (2.0 / 3.0)
+    Ro = ro + _hertz_deflection(Qi + Fc, Ko)
+    Ri = ri + _hertz_deflection(Qi, Ki)
     er = ur / A
     ez = uz / A
     if A >= Ro + Ri or A <= abs(Ro - Ri):  # the circles do not cross: on the line O-I
