@@ -38,6 +38,7 @@ import math
 from numba import njit
 
 from .config import ERROR_MODEL, KERNEL_FASTMATH
+from .deflection import deflection
 from .roots import cube_root
 from .trig import atan2
 
@@ -68,14 +69,7 @@ WARM_ITERATIONS = 12
 def _race(L, r0, k, smoothing_eps):
     """A race contact from the centre distance L (mm): (delta, Q, dQ/dL) with Q = k delta^1.5; a positive
     ``smoothing_eps`` (mm) uses the solver's smooth (d + sqrt(d^2 + eps^2))/2 for max(d, 0)."""
-    d = L - r0
-    if smoothing_eps > 0.0:
-        root = math.sqrt(d * d + smoothing_eps * smoothing_eps)
-        delta = 0.5 * (d + root)
-        slope = 0.5 * (1.0 + d / root)
-    else:
-        delta = max(d, 0.0)
-        slope = 1.0
+    delta, slope = deflection(L - r0, smoothing_eps)
     sq = math.sqrt(delta)
     return delta, k * delta * sq, 1.5 * k * sq * slope
 
@@ -234,9 +228,7 @@ def start_position(ur, uz, p, w_i, w_o, smoothing_eps):
     """
     ri, ro, Ki, Ko = p[INNER_RADIUS], p[OUTER_RADIUS], p[K_INNER], p[K_OUTER]
     A = math.sqrt(ur * ur + uz * uz)
-    delta = A - ri - ro
-    if smoothing_eps > 0.0:
-        delta = 0.5 * (delta + math.sqrt(delta * delta + smoothing_eps * smoothing_eps))
+    delta = deflection(A - ri - ro, smoothing_eps)[0]
     gamma = p[GAMMA]
     cos_a = p[COS_NOMINAL]
     wm = 0.5 * (w_i * (1.0 - gamma * cos_a) + w_o * (1.0 + gamma * cos_a))

@@ -19,6 +19,7 @@ from numba import njit, types
 from numba.extending import overload
 
 from .config import CACHE, ERROR_MODEL, KERNEL_FASTMATH
+from .deflection import smoothed_deflection
 from .high_speed import spinning_balls
 from .roots import ninth_root
 from .status import BALL_UNSETTLED, BEYOND_VALIDITY, CONTACT_REVERSED
@@ -50,8 +51,7 @@ def _clamped_deflection(d, smoothing):
         return exact
 
     def smooth(d, smoothing):
-        root = math.sqrt(d * d + smoothing * smoothing)
-        return 0.5 * (d + root), 0.5 * (1.0 + d / root)
+        return smoothed_deflection(d, smoothing)
     return smooth
 
 
