@@ -102,40 +102,29 @@ def _add_load(acc, c, s, z, R, fr, fz):
             k00, k01, k02, k03, k04, k11, k12, k13, k22, k23, k24, k33, k34, k44)
 
 
-@njit(inline="always", error_model=ERROR_MODEL)
-def _put(a, i, j, v, add):
-    # added to both entries (Kb at speed need not be symmetric), or written symmetric
-    if add:
-        a[i, j] += v
-        if i != j:
-            a[j, i] += v
-    else:
-        a[i, j] = v
-        a[j, i] = v
-
-
-@njit(inline="always", error_model=ERROR_MODEL)
+@njit(error_model=ERROR_MODEL)
 def _store(acc, f, K, add):
-    """Write (or, with ``add``, add) the sums of :func:`_add_contact` into f and, unless None, Kb."""
+    """Write (or, with ``add``, add) the sums of :func:`_add_contact` into f and, unless None, Kb.
+
+    Not inlined by numba (LLVM inlines it): numba-level inlining re-types the body at every call site,
+    which cost seconds of compilation per kernel variant; and the 25 entries are written out (a helper
+    called with literal (i, j) pairs was compiled once for each pair)."""
     (f0, f1, f2, f3, f4, k00, k01, k02, k03, k04, k11, k12, k13, k22, k23, k24, k33, k34, k44) = acc
     for i, v in enumerate((f0, f1, f2, f3, f4)):
         f[i] = f[i] + v if add else v
     if K is not None:
-        _put(K, 0, 0, k00, add)
-        _put(K, 0, 1, k01, add)
-        _put(K, 0, 2, k02, add)
-        _put(K, 0, 3, k03, add)
-        _put(K, 0, 4, k04, add)
-        _put(K, 1, 1, k11, add)
-        _put(K, 1, 2, k12, add)
-        _put(K, 1, 3, k13, add)
-        _put(K, 1, 4, -k03, add)
-        _put(K, 2, 2, k22, add)
-        _put(K, 2, 3, k23, add)
-        _put(K, 2, 4, k24, add)
-        _put(K, 3, 3, k33, add)
-        _put(K, 3, 4, k34, add)
-        _put(K, 4, 4, k44, add)
+        if add:  # both entries: Kb at speed need not be symmetric
+            K[0, 0] += k00; K[0, 1] += k01; K[0, 2] += k02; K[0, 3] += k03; K[0, 4] += k04
+            K[1, 0] += k01; K[1, 1] += k11; K[1, 2] += k12; K[1, 3] += k13; K[1, 4] += -k03
+            K[2, 0] += k02; K[2, 1] += k12; K[2, 2] += k22; K[2, 3] += k23; K[2, 4] += k24
+            K[3, 0] += k03; K[3, 1] += k13; K[3, 2] += k23; K[3, 3] += k33; K[3, 4] += k34
+            K[4, 0] += k04; K[4, 1] += -k03; K[4, 2] += k24; K[4, 3] += k34; K[4, 4] += k44
+        else:
+            K[0, 0] = k00; K[0, 1] = k01; K[0, 2] = k02; K[0, 3] = k03; K[0, 4] = k04
+            K[1, 0] = k01; K[1, 1] = k11; K[1, 2] = k12; K[1, 3] = k13; K[1, 4] = -k03
+            K[2, 0] = k02; K[2, 1] = k12; K[2, 2] = k22; K[2, 3] = k23; K[2, 4] = k24
+            K[3, 0] = k03; K[3, 1] = k13; K[3, 2] = k23; K[3, 3] = k33; K[3, 4] = k34
+            K[4, 0] = k04; K[4, 1] = -k03; K[4, 2] = k24; K[4, 3] = k34; K[4, 4] = k44
 
 
 @njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, nogil=True)
