@@ -270,13 +270,17 @@ def _tolerance(st, reach):
 def _newton(ur, uz, br, bz, p, w_i, w_o, smoothing_eps, max_iterations):
     """Newton on one ball's equilibrium g(B) = 0 from B = (br, bz); returns (state, br, bz, iterations,
     settled)."""
-    st = ball_state(ur, uz, br, bz, p, w_i, w_o, smoothing_eps)
     reach = p[INNER_RADIUS] + p[OUTER_RADIUS] + abs(ur) + abs(uz)
     ri = p[INNER_RADIUS]
-    for it in range(max_iterations):
+    it = 0
+    while True:
+        # one call site: ball_state is inlined, and each site costs its whole body in compile time
+        st = ball_state(ur, uz, br, bz, p, w_i, w_o, smoothing_eps)
         g_r, g_z, a, b, c, d = st[0], st[1], st[2], st[3], st[4], st[5]
         if max(abs(g_r), abs(g_z)) <= _tolerance(st, reach):
             return st, br, bz, it, True
+        if it == max_iterations:
+            return st, br, bz, it, False
         det = a * d - b * c
         step_r = (d * g_r - b * g_z) / det
         step_z = (a * g_z - c * g_r) / det
@@ -291,12 +295,9 @@ def _newton(ur, uz, br, bz, p, w_i, w_o, smoothing_eps, max_iterations):
         # it (its equilibrium on the outer race alone lies there), and Newton re-enters if it must
         if shrink_i > 0.5 * st[34] + 1e-15 * reach and st[34] > 1e-6 * ri:
             t = min(t, (0.5 * st[34] + 1e-15 * reach) / shrink_i)
-        step_r *= t
-        step_z *= t
-        br -= step_r
-        bz -= step_z
-        st = ball_state(ur, uz, br, bz, p, w_i, w_o, smoothing_eps)
-    return st, br, bz, max_iterations, max(abs(st[0]), abs(st[1])) <= _tolerance(st, reach)
+        br -= step_r * t
+        bz -= step_z * t
+        it += 1
 
 
 @njit(fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
