@@ -24,7 +24,7 @@ def test_kernel_per_contact(benchmark, bearing):
     load = [4000.0, 0.0, 1500.0, 0.0, 0.0] if b is TDO else [1000.0, 0.0, 3000.0, 0.0, -74000.0]
     q = fb.solve(b, load).q.copy()
     balls = b.ball_set()
-    contacts = balls[0].shape[1] + balls[3].shape[1]
+    contacts = b.n_balls + b.slice_table().shape[1]
     repeat_kernel(q, balls, 2)
     benchmark(repeat_kernel, q, balls, EVALS_PER_ROUND)
     if not benchmark.disabled:  # --benchmark-disable: a smoke run, no figures

@@ -150,8 +150,8 @@ def ball_loop(q, balls, f, K, ball_load, contact_angle):
         :meth:`fastbearing.Bearing.ball_set`; ``exponent`` None (all balls
         n = 1.5) or (n_balls,) float64 per-ball exponents; ``smoothing``
         None (the exact contact law) or eps in mm (see
-        :func:`clamped_deflection`); ``slices`` (12, n_slices) the roller
-        slices (rollers.slice_table; no columns for a ball bearing), added
+        :func:`clamped_deflection`); ``slices`` (14, n_slices) the roller
+        slices (rollers.slice_table; None for a ball bearing), added
         by :func:`slice_loop`; ``speed_table`` None (the quasi-static model) or
         the per-ball constants of the high-speed model (bearing.speed_table)
         with the shaft speed ``omega`` in rad/s (at 0 the quasi-static loop runs)
@@ -181,11 +181,54 @@ def ball_loop(q, balls, f, K, ball_load, contact_angle):
     table, exponent, smoothing, slices, speed_table, omega, warm = balls
     total, n_loaded, warnings = ball_rows(q, table, exponent, smoothing, speed_table, omega, warm, f, K,
                                           ball_load, contact_angle)
-    if slices.shape[1] > 0:
-        t, n = slice_loop(q, slices, smoothing, f, K, ball_load, contact_angle)
-        total += t
-        n_loaded += n
-    return total, n_loaded, warnings
+    t, n = roller_rows(q, slices, smoothing, f, K, ball_load, contact_angle)
+    return total + t, n_loaded + n, warnings
+
+
+def roller_rows(q, slices, smoothing, f, K, ball_load, contact_angle):
+    """The roller rows' f and Kb added to the balls' (:func:`slice_loop`); (total slice load N, loaded
+    slices). Chosen while typing: ``slices`` None (a ball bearing) compiles no roller code at all."""
+
+
+@overload(roller_rows, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def _roller_rows(q, slices, smoothing, f, K, ball_load, contact_angle):
+    if isinstance(slices, types.NoneType):
+        return lambda q, slices, smoothing, f, K, ball_load, contact_angle: (0.0, 0)
+
+    def rollers(q, slices, smoothing, f, K, ball_load, contact_angle):
+        if slices.shape[1] == 0:
+            return 0.0, 0
+        return slice_loop(q, slices, smoothing, f, K, ball_load, contact_angle)
+    return rollers
+
+
+def slice_reach(slices, reach, zmax):
+    """(reach, zmax) widened by the roller slices: each slice's row deflection scale (mm) and its axial
+    place (centre and position along the roller, mm); unchanged for None (no roller rows)."""
+
+
+@overload(slice_reach)
+def _slice_reach(slices, reach, zmax):
+    if isinstance(slices, types.NoneType):
+        return lambda slices, reach, zmax: (reach, zmax)
+
+    def widen(slices, reach, zmax):
+        for k in range(slices.shape[1]):
+            reach = max(reach, slices[11, k])
+            zmax = max(zmax, abs(slices[2, k]) + abs(slices[12, k]))
+        return reach, zmax
+    return widen
+
+
+def slice_count(slices):
+    """The number of roller slices of a ball set's slice table (0 for None: no roller rows)."""
+
+
+@overload(slice_count)
+def _slice_count(slices):
+    if isinstance(slices, types.NoneType):
+        return lambda slices: 0
+    return lambda slices: slices.shape[1]
 
 
 def ball_rows(q, table, exponent, smoothing, speed_table, omega, warm, f, K, ball_load, contact_angle):

@@ -193,7 +193,7 @@ def _variables(cfg: PassageConfig) -> list[storage.Variable]:
     ]
 
 
-def compute_block(tables: np.ndarray, slice_tables: np.ndarray, exponents: np.ndarray, speed_table, omega: float,
+def compute_block(tables: np.ndarray, slice_tables: np.ndarray | None, exponents: np.ndarray, speed_table, omega: float,
                   ball_row: np.ndarray, given_load: bool, settings, harmonics: int, inputs: np.ndarray, res: dict,
                   first: int, stop: np.ndarray) -> None:
     """Fill one block's results ``res``: every point of ``inputs`` at every cage position, then the
@@ -232,7 +232,9 @@ def job(cfg: PassageConfig) -> jobs.Job:
                      cage_frequency_hz=fc, ball_pass_frequency_hz=cfg.period_order * fc)
     tables = np.ascontiguousarray(np.stack([cfg.bearing.ball_table(a) for a in cfg.cage_angles]))
     settings = solver_settings(cfg.bearing, cfg.method, cfg.rtol, cfg.max_iter)
-    slice_tables = np.ascontiguousarray(np.stack([cfg.bearing.slice_table(a) for a in cfg.cage_angles]))
+    # None without roller rows: the sweep then compiles no roller code
+    slice_tables = (np.ascontiguousarray(np.stack([cfg.bearing.slice_table(a) for a in cfg.cage_angles]))
+                    if cfg.bearing.roller_rows else None)
     spinning = cfg.model_speed > 0
     compute = partial(compute_block, tables, slice_tables, cfg.bearing.ball_exponents,
                       cfg.bearing.speed_table if spinning else None, rpm_to_rad_s(cfg.model_speed),

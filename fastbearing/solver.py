@@ -36,7 +36,7 @@ from numba import njit
 
 from .config import (CACHE, DIVERGED_REACH, ERROR_MODEL, FASTMATH, NEWTON, SEARCH_CURVATURE, SEARCH_TRIALS,
                      SMOOTHING_FIRST, SMOOTHING_LAST, SMOOTHING_RATIO, SMOOTHING_RTOL, STAGNATION_ITERATIONS)
-from .kernel import ball_loop
+from .kernel import ball_loop, slice_reach
 from .linalg import cholesky_solve, lu_solve
 from .status import (BALL_EQUILIBRIUM, BALL_UNSETTLED, CONVERGED, ITERATION_LIMIT, NONFINITE_INPUT,
                      NONFINITE_RESULT, PRECISION_LIMIT, SINGULAR, STALLED, UNLOADED, WARNING_MASK)
@@ -523,15 +523,12 @@ def solve_case(f_target, q, f, K, balls, settings, warm, work, ball_load, contac
         return SolveOutcome(NONFINITE_INPUT, 0, math.nan, 0)
     # geometry of the rounding floor: moment arms and the largest groove-centre distance
     table = balls[0]
-    slices = balls[3]
     reach = 0.0
     zmax = 0.0
     for j in range(table.shape[1]):
         reach = max(reach, table[6, j])
         zmax = max(zmax, abs(table[2, j]))
-    for k in range(slices.shape[1]):  # a roller slice: its row's deflection scale, centre and place on it
-        reach = max(reach, slices[11, k])
-        zmax = max(zmax, abs(slices[2, k]) + abs(slices[12, k]))
+    reach, zmax = slice_reach(balls[3], reach, zmax)
     arm = 1.0 + zmax / settings.length_scale
     scale = 0.0
     for i in range(5):

@@ -13,7 +13,7 @@ from numba.extending import intrinsic, overload
 
 from .config import CACHE, ERROR_MODEL
 from .high_speed import N_WARM, WARM_VALID
-from .kernel import ball_loop
+from .kernel import ball_loop, slice_count
 from .linalg import cholesky_solve
 from .roots import cube_root
 from .solver import WORK_ROWS, solve_case, with_warnings
@@ -357,7 +357,7 @@ def map_sweep(inputs, given_load, segments, q, f, K, status, iterations, residua
     n_elements = ball_row.shape[0]
     # a roller bearing's life needs every slice's load: the record then carries them after the elements;
     # at speed each ring's own contacts: the outer contacts' loads follow the inner ones
-    n_record = n_elements + (balls[3].shape[1] if roller_life else 0) + (n_elements if spinning_life else 0)
+    n_record = n_elements + (slice_count(balls[3]) if roller_life else 0) + (n_elements if spinning_life else 0)
     for g in prange(groups):
         work = np.empty((WORK_ROWS, 5))
         predictor = np.empty((7, 5))
@@ -398,12 +398,23 @@ def map_sweep(inputs, given_load, segments, q, f, K, status, iterations, residua
                             L10r_row[i, r] = np.nan
 
 
+def slices_at(slice_tables, p):
+    """The slice table at cage position p, or None when ``slice_tables`` is None (no roller rows)."""
+
+
+@overload(slices_at)
+def _slices_at(slice_tables, p):
+    if isinstance(slice_tables, types.NoneType):
+        return lambda slice_tables, p: None
+    return lambda slice_tables, p: slice_tables[p]
+
+
 @njit(parallel=True, cache=CACHE, error_model=ERROR_MODEL, nogil=True)
 def passage_sweep(inputs, given_load, tables, slice_tables, exponent, speed_table, omega, q, f, K, status, iterations, residual,
                   max_load, n_loaded, min_angle, max_angle, ball_row, settings, stop):
     """Ball-passage tables, in place: every operating point at every cage position.
 
-    ``tables`` (P, 13, n_balls) and ``slice_tables`` (P, 12, n_slices) hold the ball and roller-slice
+    ``tables`` (P, 13, n_balls) and ``slice_tables`` (P, 14, n_slices, or None without roller rows) hold the ball and roller-slice
     tables at each of P cage
     angles (``exponent``, ``speed_table`` and ``omega`` as in a ball set); outputs are (N, P, ...). Along
     the positions of one point each solve starts from the previous
@@ -429,7 +440,7 @@ def passage_sweep(inputs, given_load, tables, slice_tables, exponent, speed_tabl
                     for d in range(5):
                         q[i, p, d] = q[i, p - 1, d]
                 status[i, p], iterations[i, p], residual[i, p] = operating_point(
-                    given_load, inputs[i], warm, q[i, p], f[i, p], K[i, p], (tables[p], exponent, None, slice_tables[p], speed_table, omega, spin),
+                    given_load, inputs[i], warm, q[i, p], f[i, p], K[i, p], (tables[p], exponent, None, slices_at(slice_tables, p), speed_table, omega, spin),
                     settings,
                     work, ball_load, contact_angle)
                 row_summary(ball_load, contact_angle, ball_row, max_load[i, p], n_loaded[i, p], min_angle[i, p],
