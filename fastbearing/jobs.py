@@ -207,7 +207,7 @@ def _progress(total: int, initial: int, show, unit: str):
 
 #: About how long numba takes to compile a sweep and the solver under it on an empty cache (2 cores,
 #: measured 2026-11-23; see bench/README.md).
-COMPILE_SECONDS = 50
+COMPILE_SECONDS = 45
 
 
 def needs_compiling(kernel: str) -> bool:
