@@ -463,10 +463,11 @@ class Bearing:
 
     def ball_set(self, cage_angle: float = 0.0, speed: float | None = None) -> tuple:
         """What the kernel reads: (ball table, per-ball exponents or None when every n is 1.5, None:
-        the exact contact law, slice table or None without roller rows, speed table, omega, warm starts). ``speed`` (rpm) None: no
-        speed table, the quasi-static model; a number (0 included): the high-speed constants, omega in
-        rad/s and a fresh scratch for the balls' warm starts (fastbearing.high_speed; at 0 rpm the kernel
-        takes the quasi-static loop). A ball set at speed belongs to one thread."""
+        the exact contact law, slice table or None without roller rows, speed table, omega, warm starts).
+        ``speed`` (rpm) None: no speed table, the quasi-static model; a number (0 included): the
+        high-speed constants, omega in rad/s and a fresh scratch for the balls' warm starts
+        (fastbearing.high_speed; at 0 rpm the kernel takes the quasi-static loop). A ball set at speed
+        belongs to one thread."""
         # no roller rows: None, so that the kernels compile no roller code for a ball bearing
         slices = self.slice_table(cage_angle) if self.roller_rows else None
         if speed is None:

@@ -308,7 +308,7 @@ def curved_predictor(target, load_prev, load_prev2, q_prev, q_prev2, q):
     Along a grid line the loads are collinear; with s the load step's fraction (s = 1 at ``target``,
     0 at ``load_prev``, -r at ``load_prev2``), p(s) = q_prev + v s + c s^2 with the tangent step
     v = q - q_prev passes through q_prev2 for c = (q_prev2 - q_prev + v r) / r^2, and q becomes p(1).
-    Halves the Newton iterations of a warm map case (2.08 -> 1.48 on the shipped example). Leaves q
+    Cuts the Newton iterations of a warm map case from 2.08 to 1.47 on the shipped example. Leaves q
     alone where the correction is not finite or exceeds the tangent step (a contact opened or closed
     between the points: the parabola is no better there).
     """
@@ -342,8 +342,8 @@ def map_sweep(inputs, given_load, segments, q, f, K, status, iterations, residua
     displacements (mm, rad). ``segments`` (grid.segment_starts) cuts the
     block into continuation runs along the fastest grid axis: each run
     starts cold and each later case starts from its neighbour's converged q
-    by the tangent predictor (bent through the one before, :func:`curved_predictor`), falling back to a cold start inside the solver
-    when that fails. ``stop[0] != 0`` (set by Ctrl-C from another thread)
+    by the tangent predictor (bent through the one before, :func:`curved_predictor`),
+    falling back to a cold start inside the solver when that fails. ``stop[0] != 0`` (set by Ctrl-C from another thread)
     ends the sweep at the next case; the block is then incomplete. With a
     ``life`` table (rows, 8; life.life_table) of more than zero rows, L10r,
     L10r_row and the static safety (with C0 in N; nan where a case did not
@@ -414,8 +414,8 @@ def passage_sweep(inputs, given_load, tables, slice_tables, exponent, speed_tabl
                   max_load, n_loaded, min_angle, max_angle, ball_row, settings, stop):
     """Ball-passage tables, in place: every operating point at every cage position.
 
-    ``tables`` (P, 13, n_balls) and ``slice_tables`` (P, 14, n_slices, or None without roller rows) hold the ball and roller-slice
-    tables at each of P cage
+    ``tables`` (P, 13, n_balls) and ``slice_tables`` (P, 14, n_slices; None without roller rows) hold the
+    ball and roller-slice tables at each of P cage
     angles (``exponent``, ``speed_table`` and ``omega`` as in a ball set); outputs are (N, P, ...). Along
     the positions of one point each solve starts from the previous
     position's converged q. ``stop[0] != 0`` ends the sweep early, as in map_sweep.
@@ -440,8 +440,8 @@ def passage_sweep(inputs, given_load, tables, slice_tables, exponent, speed_tabl
                     for d in range(5):
                         q[i, p, d] = q[i, p - 1, d]
                 status[i, p], iterations[i, p], residual[i, p] = operating_point(
-                    given_load, inputs[i], warm, q[i, p], f[i, p], K[i, p], (tables[p], exponent, None, slices_at(slice_tables, p), speed_table, omega, spin),
-                    settings,
+                    given_load, inputs[i], warm, q[i, p], f[i, p], K[i, p],
+                    (tables[p], exponent, None, slices_at(slice_tables, p), speed_table, omega, spin), settings,
                     work, ball_load, contact_angle)
                 row_summary(ball_load, contact_angle, ball_row, max_load[i, p], n_loaded[i, p], min_angle[i, p],
                             max_angle[i, p])
