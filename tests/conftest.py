@@ -2,6 +2,7 @@
 fastbearing and the naive-reference form."""
 
 import math
+import os
 import sys
 from pathlib import Path
 
@@ -12,6 +13,12 @@ sys.path.insert(0, str(Path(__file__).parent))
 
 import fastbearing as fb  # noqa: E402
 from hypothesis import settings  # noqa: E402
+
+# Subprocesses (the real command line, killed and resumed runs, README examples) import the same fastbearing
+# as this process, not an installed copy elsewhere: they test the same code and share its numba cache (an
+# installed copy is other files to numba, so every subprocess compiled the kernels again: 1-2 min of CI).
+os.environ["PYTHONPATH"] = os.pathsep.join(
+    p for p in (str(Path(fb.__file__).resolve().parents[1]), os.environ.get("PYTHONPATH")) if p)
 
 # Property tests draw the same examples on every run and machine: a CI result can be reproduced, and a
 # failure is a property of the code, not of the day's random seed.
