@@ -1,5 +1,6 @@
 """Shared benchmark inputs: the paper's bearing and a fixed, seeded set of random combined loads."""
 
+import os
 import sys
 from pathlib import Path
 
@@ -11,6 +12,11 @@ sys.path.insert(0, str(Path(__file__).parent))
 import fastbearing as fb  # noqa: E402
 from fastbearing.kernel import ball_loop  # noqa: E402
 from numba import njit  # noqa: E402
+
+# child processes (the timed whole-process runs) import the same fastbearing as this process, and so share
+# its numba cache (tests/conftest.py says why)
+os.environ["PYTHONPATH"] = os.pathsep.join(
+    p for p in (str(Path(fb.__file__).resolve().parents[1]), os.environ.get("PYTHONPATH")) if p)
 
 BEARING = fb.Bearing.preset("gunduz2013", "DB")
 TABLE3 = np.array([1000.0, 0.0, 0.0, 0.0, -74000.0])
