@@ -50,6 +50,14 @@ N_SPEED_COLUMNS = 15
 #: Newton iterations allowed per ball, and the relative residual at which a ball is in equilibrium.
 BALL_ITERATIONS = 40
 BALL_RTOL = 1e-13
+#: Inside a solve (a warm-start scratch and no record) a ball stops at the first Newton step dB shorter than
+#: LINEAR_REACH of its contacts' deflections (along each normal) and hands the ring its first-order
+#: corrected force F + F_B dB (error about Q (dB/delta)^2, under 1 %): one ball state per ball and evaluation.
+#: The correction counts as exact when dB is within LINEAR_RTOL of the deflections (F then errs by
+#: 1e-22 relative, Kb by about 1e-11); otherwise the kernel flags the evaluation (BALL_LINEARISED) and the
+#: solver evaluates again before it declares convergence.
+LINEAR_REACH = 0.1
+LINEAR_RTOL = 1e-11
 
 #: Fields of a ball's state record (solve --balls at speed): row j of an (n_balls, N_STATE) array.
 (STATE_INNER_LOAD, STATE_OUTER_LOAD, STATE_INNER_ANGLE, STATE_OUTER_ANGLE, STATE_CENTRIFUGAL, STATE_GYROSCOPIC,
@@ -59,8 +67,10 @@ N_STATE = 9
 #: Rows of a ball set's warm-start scratch (N_WARM, n_balls): each ball's settled centre B, the inner groove
 #: centre u it was settled for and X = G_B^-1 G_u there, so that the next evaluation starts from the
 #: first-order prediction B - X (u' - u); WARM_VALID 0: no start stored (a free or unsettled ball).
-(WARM_BR, WARM_BZ, WARM_UR, WARM_UZ, WARM_X00, WARM_X01, WARM_X10, WARM_X11, WARM_VALID) = range(9)
-N_WARM = 9
+#: WARM_LINEARISE (its first cell only): set by the solver for the length of a solve, which takes
+#: linearised balls (:func:`_newton`); 0 everywhere else, so that any other evaluation is the model's.
+(WARM_BR, WARM_BZ, WARM_UR, WARM_UZ, WARM_X00, WARM_X01, WARM_X10, WARM_X11, WARM_VALID, WARM_LINEARISE) = range(10)
+N_WARM = 10
 #: Newton iterations a warm start gets before the ball is settled again from :func:`start_position`.
 WARM_ITERATIONS = 12
 
@@ -267,9 +277,14 @@ def _tolerance(st, reach):
 
 
 @njit(fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
-def _newton(ur, uz, br, bz, p, w_i, w_o, smoothing_eps, max_iterations):
+def _newton(ur, uz, br, bz, p, w_i, w_o, smoothing_eps, max_iterations, linearise):
     """Newton on one ball's equilibrium g(B) = 0 from B = (br, bz); returns (state, br, bz, iterations,
-    settled)."""
+    settled, dB_r, dB_z, exact).
+
+    Settled with dB = 0 and exact: the residual is within the ball's tolerance at B. With ``linearise``, also
+    settled where the next Newton step dB is short (LINEAR_REACH): the caller corrects the state's forces to
+    first order with dB, which is ``exact`` when dB is within LINEAR_RTOL of the deflections.
+    """
     reach = p[INNER_RADIUS] + p[OUTER_RADIUS] + abs(ur) + abs(uz)
     ri = p[INNER_RADIUS]
     it = 0
@@ -278,16 +293,23 @@ def _newton(ur, uz, br, bz, p, w_i, w_o, smoothing_eps, max_iterations):
         st = ball_state(ur, uz, br, bz, p, w_i, w_o, smoothing_eps)
         g_r, g_z, a, b, c, d = st[0], st[1], st[2], st[3], st[4], st[5]
         if max(abs(g_r), abs(g_z)) <= _tolerance(st, reach):
-            return st, br, bz, it, True
+            return st, br, bz, it, True, 0.0, 0.0, True
         if it == max_iterations:
-            return st, br, bz, it, False
+            return st, br, bz, it, False, 0.0, 0.0, False
         det = a * d - b * c
         step_r = (d * g_r - b * g_z) / det
         step_z = (a * g_z - c * g_r) / det
-        # a step may at most halve either deflection (Hertz contacts soften to nothing as they unload),
-        # but may swing the ball round its contacts freely (the soft tangential direction)
         shrink_o = st[29] * step_r + st[30] * step_z  # delta_o falls by n_o . step
         shrink_i = -(st[27] * step_r + st[28] * step_z)  # delta_i falls by -n_i . step
+        if linearise and st[34] > 0.0 and st[35] > 0.0:
+            moved_o = abs(shrink_o) / st[35]
+            moved_i = abs(shrink_i) / st[34]
+            if moved_o <= LINEAR_REACH and moved_i <= LINEAR_REACH:
+                swing = math.sqrt(step_r * step_r + step_z * step_z)  # the tangential part: against |B| ~ D
+                exact = max(moved_o, moved_i) <= LINEAR_RTOL and swing <= LINEAR_RTOL * reach
+                return st, br, bz, it, True, -step_r, -step_z, exact
+        # a step may at most halve either deflection (Hertz contacts soften to nothing as they unload),
+        # but may swing the ball round its contacts freely (the soft tangential direction)
         t = 1.0
         if shrink_o > 0.5 * st[35] + 1e-15 * reach:
             t = min(t, (0.5 * st[35] + 1e-15 * reach) / shrink_o)
@@ -301,14 +323,14 @@ def _newton(ur, uz, br, bz, p, w_i, w_o, smoothing_eps, max_iterations):
 
 
 @njit(fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
-def settle_ball(ur, uz, p, w_i, w_o, smoothing_eps, warm_br=0.0, warm_bz=0.0, warm=False):
+def settle_ball(ur, uz, p, w_i, w_o, smoothing_eps, warm_br=0.0, warm_bz=0.0, warm=False, linearise=False):
     """Settle one ball: Newton on g(B) = 0 from the warm start (warm_br, warm_bz) when ``warm`` and both
     its contacts are closed there, else (or when the warm start does not settle in WARM_ITERATIONS)
-    from :func:`start_position`.
+    from :func:`start_position`; with ``linearise``, to the first short step (:func:`_newton`).
 
-    Returns (state tuple of :func:`ball_state` at the solution, br, bz, iterations, settled): a ball the
-    rings leave free returns iterations -1, settled, with its state at the free position (Q_i = 0: nothing
-    for the ring).
+    Returns (state tuple of :func:`ball_state` at B, br, bz, iterations, settled, dB_r, dB_z, exact): the
+    solution is B + dB (dB = 0 unless linearised). A ball the rings leave free returns iterations -1,
+    settled, with its state at the free position (Q_i = 0: nothing for the ring).
     """
     A = math.sqrt(ur * ur + uz * uz)
     # only a ring approach that leaves room for the ball may free it: start_position tells
@@ -318,15 +340,15 @@ def settle_ball(ur, uz, p, w_i, w_o, smoothing_eps, warm_br=0.0, warm_bz=0.0, wa
     else:
         br, bz, loaded = warm_br, warm_bz, True
     if warm and loaded:
-        st, wbr, wbz, it, settled = _newton(ur, uz, warm_br, warm_bz, p, w_i, w_o, smoothing_eps,
-                                            WARM_ITERATIONS)
+        st, wbr, wbz, it, settled, db_r, db_z, exact = _newton(ur, uz, warm_br, warm_bz, p, w_i, w_o,
+                                                               smoothing_eps, WARM_ITERATIONS, linearise)
         if settled and st[34] > 0.0 and st[35] > 0.0:
-            return st, wbr, wbz, it, True
+            return st, wbr, wbz, it, True, db_r, db_z, exact
         if pinched:  # the warm start failed: start over from the usual guess
             br, bz, loaded = start_position(ur, uz, p, w_i, w_o, smoothing_eps)
     if not loaded:
-        return ball_state(ur, uz, br, bz, p, w_i, w_o, smoothing_eps), br, bz, -1, True
-    return _newton(ur, uz, br, bz, p, w_i, w_o, smoothing_eps, BALL_ITERATIONS)
+        return ball_state(ur, uz, br, bz, p, w_i, w_o, smoothing_eps), br, bz, -1, True, 0.0, 0.0, True
+    return _newton(ur, uz, br, bz, p, w_i, w_o, smoothing_eps, BALL_ITERATIONS, linearise)
 
 
 @njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
@@ -374,8 +396,10 @@ def spinning_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact_a
     in a record of 2 n_balls Q_o and alpha_o after them (a load map's life at speed);
     ``states`` (n_balls, N_STATE) or None records the whole ball. ``warm`` (N_WARM, n_balls) or None: each
     ball starts from its last settled centre moved by the first-order prediction (rows WARM_*), and
-    leaves its new one there. Returns (sum of Q_i in N, loaded balls,
-    warning bits: 1 contact reversed, 2 beyond validity, 4 a ball not settled).
+    leaves its new one there; inside a solve (``warm`` row WARM_LINEARISE set) and with no record the balls
+    are linearised (:func:`_newton`: one ball state each where the prediction is good). Returns (sum of Q_i in N, loaded balls,
+    warning bits: 1 contact reversed, 2 beyond validity, 4 a ball not settled, 8 a ball linearised with a
+    step beyond LINEAR_RTOL: f and Kb first-order close, evaluate again for the model's).
     """
     n = table.shape[1]
     f0 = f1 = f2 = f3 = f4 = 0.0
@@ -383,6 +407,9 @@ def spinning_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact_a
     total = 0.0
     n_loaded = 0
     flags = 0
+    linearise = False
+    if warm is not None and n > 0:
+        linearise = ball_load is None and states is None and warm[WARM_LINEARISE, 0] != 0.0
     for j in range(n):
         c = table[0, j]
         s = table[1, j]
@@ -402,15 +429,18 @@ def spinning_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact_a
         if warm is not None and warm[WARM_VALID, j] != 0.0:
             du_r = ur - warm[WARM_UR, j]
             du_z = uz - warm[WARM_UZ, j]
-            st, br, bz, iterations, settled = settle_ball(
+            st, br, bz, iterations, settled, db_r, db_z, exact = settle_ball(
                 ur, uz, p, w_i, w_o, eps, warm[WARM_BR, j] - (warm[WARM_X00, j] * du_r + warm[WARM_X01, j] * du_z),
-                warm[WARM_BZ, j] - (warm[WARM_X10, j] * du_r + warm[WARM_X11, j] * du_z), True)
+                warm[WARM_BZ, j] - (warm[WARM_X10, j] * du_r + warm[WARM_X11, j] * du_z), True, linearise)
         else:
-            st, br, bz, iterations, settled = settle_ball(ur, uz, p, w_i, w_o, eps, 0.0, 0.0, False)
+            st, br, bz, iterations, settled, db_r, db_z, exact = settle_ball(ur, uz, p, w_i, w_o, eps, 0.0, 0.0,
+                                                                             False, linearise)
+        if not exact:
+            flags |= 8
         x00, x01, x10, x11 = sensitivity(st)
         if warm is not None:
-            warm[WARM_BR, j] = br
-            warm[WARM_BZ, j] = bz
+            warm[WARM_BR, j] = br + db_r
+            warm[WARM_BZ, j] = bz + db_z
             warm[WARM_UR, j] = ur
             warm[WARM_UZ, j] = uz
             warm[WARM_X00, j] = x00
@@ -450,10 +480,11 @@ def spinning_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact_a
                 max(abs(st[0]), abs(st[1])) / max(st[25] + st[26] + abs(st[31]), 1e-300))
         if not Qi > 0.0 and eps == 0.0:
             continue
-        # back to the bearing's frame: the axial components take the row's sign
-        Fr = st[10]
-        Fz = sgn * st[11]
-        m = R * Fz - z * Fr + sgn * st[20]
+        # back to the bearing's frame: the axial components take the row's sign; a linearised ball's
+        # force to first order at B + dB
+        Fr = st[10] + (st[16] * db_r + st[17] * db_z)
+        Fz = sgn * (st[11] + (st[18] * db_r + st[19] * db_z))
+        m = R * Fz - z * Fr + sgn * (st[20] + (st[23] * db_r + st[24] * db_z))
         f0 += Fr * c
         f1 += Fr * s
         f2 += Fz

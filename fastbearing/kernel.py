@@ -22,7 +22,7 @@ from .config import CACHE, ERROR_MODEL, KERNEL_FASTMATH
 from .deflection import smoothed_deflection
 from .high_speed import spinning_balls
 from .roots import ninth_root
-from .status import BALL_UNSETTLED, BEYOND_VALIDITY, CONTACT_REVERSED
+from .status import BALL_LINEARISED, BALL_UNSETTLED, BEYOND_VALIDITY, CONTACT_REVERSED
 from .trig import atan2
 
 #: The running sums of f (5) and the 14 independent Kb entries, at zero.
@@ -176,7 +176,9 @@ def ball_loop(q, balls, f, K, ball_load, contact_angle):
         Status warning bits (status.py): CONTACT_REVERSED when a loaded
         ball's contact angle has the opposite sign to its row's contact
         direction, BEYOND_VALIDITY when a ball's deflection exceeds its
-        row's deflection limit (table row DEFLECTION_LIMIT); 0 otherwise.
+        row's deflection limit (table row DEFLECTION_LIMIT); at speed the
+        kernel flags BALL_UNSETTLED and, with warm starts and no record,
+        BALL_LINEARISED (f and Kb first-order close: see :func:`settled_loop`).
     """
     table, exponent, smoothing, slices, speed_table, omega, warm = balls
     total, n_loaded, warnings = ball_rows(q, table, exponent, smoothing, speed_table, omega, warm, f, K,
@@ -251,7 +253,7 @@ def _ball_rows(q, table, exponent, smoothing, speed_table, omega, warm, f, K, ba
         total, n_loaded, flags = spinning_balls(q, table, speed_table, omega, smoothing_eps(smoothing), f, K,
                                                 ball_load, contact_angle, None, warm)
         warnings = ((CONTACT_REVERSED if flags & 1 else 0) | (BEYOND_VALIDITY if flags & 2 else 0)
-                    | (BALL_UNSETTLED if flags & 4 else 0))
+                    | (BALL_UNSETTLED if flags & 4 else 0) | (BALL_LINEARISED if flags & 8 else 0))
         return total, n_loaded, warnings
     return at_speed
 
@@ -449,3 +451,24 @@ def slice_loop(q, slices, smoothing, f, K, element_load, element_angle):
         start = stop
     _store(acc, f, K, True)
     return total, n_loaded
+
+
+#: Evaluations :func:`settled_loop` allows: each takes every linearised ball one Newton step on (the
+#: linearisation's error squares), so two nearly always suffice.
+SETTLE_PASSES = 6
+
+
+@njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, nogil=True)
+def settled_loop(q, balls, f, K, ball_load, contact_angle):
+    """:func:`ball_loop` evaluated until no ball at speed is left linearised (BALL_LINEARISED): the
+    model's f and Kb at q for a caller that keeps them (a substitution, the solver's last word). A ball
+    set without speed, or without warm starts, takes one evaluation. Still linearised after
+    SETTLE_PASSES: BALL_UNSETTLED."""
+    total, n_loaded, warnings = ball_loop(q, balls, f, K, ball_load, contact_angle)
+    for _ in range(SETTLE_PASSES - 1):
+        if not warnings & BALL_LINEARISED:
+            return total, n_loaded, warnings
+        total, n_loaded, warnings = ball_loop(q, balls, f, K, ball_load, contact_angle)
+    if warnings & BALL_LINEARISED:
+        warnings = (warnings & ~BALL_LINEARISED) | BALL_UNSETTLED
+    return total, n_loaded, warnings

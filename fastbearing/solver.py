@@ -32,13 +32,15 @@ bearing, say) ends as ``PRECISION_LIMIT`` once it reaches the floor, never as
 import math
 from collections import namedtuple
 
-from numba import njit
+from numba import njit, types
+from numba.extending import overload
 
 from .config import (CACHE, DIVERGED_REACH, ERROR_MODEL, FASTMATH, NEWTON, SEARCH_CURVATURE, SEARCH_TRIALS,
                      SMOOTHING_FIRST, SMOOTHING_LAST, SMOOTHING_RATIO, SMOOTHING_RTOL, STAGNATION_ITERATIONS)
-from .kernel import ball_loop, slice_reach
+from .high_speed import WARM_LINEARISE
+from .kernel import SETTLE_PASSES, ball_loop, settled_loop, slice_reach
 from .linalg import cholesky_solve, lu_solve
-from .status import (BALL_EQUILIBRIUM, BALL_UNSETTLED, CONVERGED, ITERATION_LIMIT, NONFINITE_INPUT,
+from .status import (BALL_EQUILIBRIUM, BALL_LINEARISED, BALL_UNSETTLED, CONVERGED, ITERATION_LIMIT, NONFINITE_INPUT,
                      NONFINITE_RESULT, PRECISION_LIMIT, SINGULAR, STALLED, UNLOADED, WARNING_MASK)
 
 #: The solver's settings, one record: ``method`` (NEWTON or BROYDEN), ``rtol`` (relative residual),
@@ -177,14 +179,27 @@ def _descend(f_target, q, f, K, total, n_loaded, warn, balls, settings, tol, arm
     for i in range(5):
         for j in range(5):
             B[i, j] = K[i, j] * D[i] * D[j]
+    passes = 0
     for it in range(settings.max_iter + 1):
-        if newton:
-            for i in range(5):
-                for j in range(5):
-                    Ks[i, j] = K[i, j] * D[i] * D[j]
-        floor = _rounding_floor(total, Ks if newton else B, q, D, arm, reach)
-        work[_FLOOR, 0] = floor
-        if rmax <= max(tol, floor):
+        while True:
+            if newton:
+                for i in range(5):
+                    for j in range(5):
+                        Ks[i, j] = K[i, j] * D[i] * D[j]
+            floor = _rounding_floor(total, Ks if newton else B, q, D, arm, reach)
+            work[_FLOOR, 0] = floor
+            if not (rmax <= max(tol, floor) and warn & BALL_LINEARISED and passes < SETTLE_PASSES):
+                break
+            # within tolerance, but on balls at speed linearised: evaluate at q again (each pass squares
+            # their error) so that a converged answer is the model's
+            passes += 1
+            if newton:
+                total, n_loaded, warn = ball_loop(q, balls, f, K, None, None)
+            else:
+                total, n_loaded, warn = ball_loop(q, balls, f, None, None, None)
+            evals += 1
+            rmax, r2 = _scaled_residual(f, f_target, D, g)
+        if rmax <= max(tol, floor) and not warn & BALL_LINEARISED:
             return CONVERGED, it, rmax, evals, total, warn
         if it == settings.max_iter or since_best >= STAGNATION_ITERATIONS:
             break
@@ -323,18 +338,27 @@ def _minimise_energy(f_target, q, f, K, balls, settings, tol, arm, reach, D, wor
     for i in range(5):
         radius = max(radius, abs(q[i] / D[i]))
     radius = max(2.0 * radius, 0.05 * settings.max_step)
+    passes = 0
     for it in range(settings.max_iter + 1):
+        while True:
+            for i in range(5):
+                for j in range(5):
+                    Ks[i, j] = K[i, j] * D[i] * D[j]
+            floor = _rounding_floor(total, Ks, q, D, arm, reach)
+            work[_FLOOR, 0] = floor
+            if not (rmax <= max(tol, floor) and warn & BALL_LINEARISED and passes < SETTLE_PASSES):
+                break
+            passes += 1  # balls at speed linearised: evaluate at q again (as in _descend)
+            total, n_loaded, warn = ball_loop(q, balls, f, K, None, None)
+            evals += 1
+            rmax, r2 = _scaled_residual(f, f_target, D, g)
+        if rmax <= max(tol, floor) and not warn & BALL_LINEARISED:
+            return CONVERGED, it, rmax, evals, total, warn
         gnorm = 0.0
         for i in range(5):
             rhs[i] = -g[i]
             gnorm += g[i] * g[i]
-            for j in range(5):
-                Ks[i, j] = K[i, j] * D[i] * D[j]
         gnorm = math.sqrt(gnorm)
-        floor = _rounding_floor(total, Ks, q, D, arm, reach)
-        work[_FLOOR, 0] = floor
-        if rmax <= max(tol, floor):
-            return CONVERGED, it, rmax, evals, total, warn
         if it == settings.max_iter:
             break
         ok = cholesky_solve(Ks, 0.0, rhs, dp, LU)
@@ -472,6 +496,22 @@ def _all_finite(q, f, K):
     return ok
 
 
+def _take_linearised(spin, allowed):
+    """Tell the balls at speed (warm-start scratch ``spin``, None without speed) whether this solve takes
+    linearised balls: the solver's tests see BALL_LINEARISED and evaluate again before they converge."""
+
+
+@overload(_take_linearised)
+def _take_linearised_impl(spin, allowed):
+    if isinstance(spin, types.NoneType):
+        return lambda spin, allowed: None
+
+    def tell(spin, allowed):
+        if spin.shape[1] > 0:
+            spin[WARM_LINEARISE, 0] = 1.0 if allowed else 0.0
+    return tell
+
+
 @njit(cache=CACHE, fastmath=FASTMATH, error_model=ERROR_MODEL, nogil=True)
 def solve_case(f_target, q, f, K, balls, settings, warm, work, ball_load, contact_angle):
     """Find q with f(q) = f_target; fill q (5), f (5) and Kb (5x5) in place.
@@ -503,7 +543,18 @@ def solve_case(f_target, q, f, K, balls, settings, warm, work, ball_load, contac
         phases, ``residual`` = max_i |D_i (f_i(q) - f_target_i)| / max_i
         |D_i f_target_i| with D = (1, 1, 1, 1/L, 1/L) (for f_target = 0:
         over the sum of ball loads), ``evaluations`` of the kernel.
+
+    Balls at speed are linearised while it runs (high_speed.LINEAR_RTOL); the answer is the model's.
     """
+    _take_linearised(balls[6], True)
+    out = _solve_case(f_target, q, f, K, balls, settings, warm, work, ball_load, contact_angle)
+    _take_linearised(balls[6], False)
+    return out
+
+
+@njit(cache=CACHE, fastmath=FASTMATH, error_model=ERROR_MODEL, nogil=True)
+def _solve_case(f_target, q, f, K, balls, settings, warm, work, ball_load, contact_angle):
+    """:func:`solve_case` itself."""
     D = work[_D]
     D[0] = D[1] = D[2] = 1.0
     D[3] = D[4] = 1.0 / settings.length_scale
@@ -551,7 +602,7 @@ def solve_case(f_target, q, f, K, balls, settings, warm, work, ball_load, contac
             # no load and no ball loaded at rest (no preload): q = 0, f = 0, Kb = 0 exactly
             for i in range(5):
                 q[i] = 0.0
-            ball_loop(q, balls, f, K, ball_load, contact_angle)
+            settled_loop(q, balls, f, K, ball_load, contact_angle)
             return SolveOutcome(UNLOADED, 0, 0.0, evals + 1)
         status, it, rmax, ev, total, warn = _descend(f_target, q, f, K, total, n_loaded, warn, balls, settings,
                                                       tol, arm, reach, D, work)
@@ -569,9 +620,9 @@ def solve_case(f_target, q, f, K, balls, settings, warm, work, ball_load, contac
     if not newton_done or ball_load is not None:
         if newton_done:
             # Newton's last accepted step already left f and Kb at q: the record alone (Kb would cost a third)
-            total, n_loaded, warn = ball_loop(q, balls, f, None, ball_load, contact_angle)
+            total, n_loaded, warn = settled_loop(q, balls, f, None, ball_load, contact_angle)
         else:
-            total, n_loaded, warn = ball_loop(q, balls, f, K, ball_load, contact_angle)
+            total, n_loaded, warn = settled_loop(q, balls, f, K, ball_load, contact_angle)
         evals += 1
         rmax, r2 = _scaled_residual(f, f_target, D, work[_G])
     if not _all_finite(q, f, K):

@@ -37,6 +37,9 @@ WARNING_MASK = CONTACT_REVERSED | BEYOND_VALIDITY
 #: Kernel flag (never in a stored status): a ball at speed did not settle; the solver and the sweeps turn
 #: it into the outcome BALL_EQUILIBRIUM.
 BALL_UNSETTLED = 64
+#: Kernel flag (never in a stored status): a ball at speed was linearised (high_speed.LINEAR_RTOL) inside a
+#: solve, so f and Kb are first-order close to the model's; the solver evaluates again before converging.
+BALL_LINEARISED = 128
 
 OUTCOME_MASK = 15
 

@@ -111,6 +111,49 @@ def test_a_warm_started_ball_settles_where_a_cold_one_does():
         q_last = q
 
 
+def test_inside_a_solve_a_ball_is_linearised_to_second_order_and_flagged_until_settled():
+    """With the solver's WARM_LINEARISE set a ball takes one state per evaluation and hands the ring
+    F + F_B dB: the force errs by the square of the ball's step (a fraction of a percent from a poor
+    start, nothing from a good one), the evaluation is flagged (bit 8) until dB is within LINEAR_RTOL, and
+    each further evaluation at the same q squares the ball's step. Without the flag, or with a record, a
+    ball is settled exactly."""
+    rng = np.random.default_rng(5)
+    table, speed_table = SPINDLE.ball_table(), SPINDLE.speed_table
+    omega = 18000.0 * math.pi / 30.0
+    warm = np.zeros((hs.N_WARM, SPINDLE.n_balls))
+    q_last = _q(rng)
+    hs.spinning_balls(q_last, table, speed_table, omega, 0.0, np.empty(5), None, None, None, None, warm)
+    errors = []
+    for step in (3e-3, 1e-4, 1e-6):
+        q = q_last + step * rng.standard_normal(5) * np.array([1, 1, 1, 0.02, 0.02])
+        f_exact, K_exact = np.empty(5), np.empty((5, 5))
+        hs.spinning_balls(q, table, speed_table, omega, 0.0, f_exact, K_exact, None, None, None, None)
+        scale = np.abs(f_exact).max()
+        lin = warm.copy()
+        lin[hs.WARM_LINEARISE, 0] = 1.0
+        f, K = np.empty(5), np.empty((5, 5))
+        flags = hs.spinning_balls(q, table, speed_table, omega, 0.0, f, K, None, None, None, lin)[2]
+        errors.append(np.abs(f - f_exact).max() / scale)
+        assert errors[-1] <= 1e-3, step
+        if step >= 1e-4:
+            assert flags & 8, step  # dB beyond LINEAR_RTOL: not the model's yet
+        passes = [errors[-1]]
+        while flags & 8 and len(passes) < 5:  # each further pass at the same q squares the ball's step
+            flags = hs.spinning_balls(q, table, speed_table, omega, 0.0, f, K, None, None, None, lin)[2]
+            passes.append(np.abs(f - f_exact).max() / scale)
+        assert not flags & 8, (step, passes)
+        assert np.abs(f - f_exact).max() <= 1e-12 * scale, step
+        assert np.abs(K - K_exact).max() <= 1e-9 * np.abs(K_exact).max(), step
+        # the same start without the solver's flag settles exactly (and is never flagged)
+        f2 = np.empty(5)
+        assert not hs.spinning_balls(q, table, speed_table, omega, 0.0, f2, None, None, None, None, warm.copy())[2] & 8
+        assert np.abs(f2 - f_exact).max() <= 1e-12 * scale
+        warm = lin
+        warm[hs.WARM_LINEARISE, 0] = 0.0
+        q_last = q
+    assert errors[1] < 1e-3 * errors[0] and errors[2] <= 1e-12  # a better start: far smaller error
+
+
 def test_random_loads_and_speeds_converge_honestly_on_every_shipped_ball_bearing():
     """solve_many (warm-started balls, two threads) over random combined loads and speeds up to 40 000 rpm:
     a converged case carries its load at speed and every ball is in equilibrium (to 1e-10 of its forces,
@@ -126,8 +169,10 @@ def test_random_loads_and_speeds_converge_honestly_on_every_shipped_ball_bearing
             out = fb.solve_many(b, loads, speed=speeds, threads=2)
             assert out.converged.mean() > 0.5, (name, arrangement)
             for i in np.flatnonzero(out.converged):
-                f, _ = fb.stiffness(b, out.q[i], speed=speeds[i])
+                f, K = fb.stiffness(b, out.q[i], speed=speeds[i])
                 assert np.abs(f - loads[i]).max() <= 1e-8 * np.abs(loads[i]).max(), (name, arrangement, i)
+                # Kb from the solve's linearised balls is the model's at q
+                assert np.abs(out.K[i] - K).max() <= 1e-8 * np.abs(K).max(), (name, arrangement, i)
                 c = ball_contacts(b, out.q[i], speed=speeds[i])
                 absolute = c.equilibrium_residual * (c.inner_load + c.outer_load + np.abs(c.centrifugal_force))
                 assert np.all((c.equilibrium_residual <= 1e-10) | (absolute <= 1e-9)), (name, arrangement, i)
