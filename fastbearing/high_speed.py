@@ -276,6 +276,32 @@ def _tolerance(st, reach):
     return max(BALL_RTOL * scale, 8.0 * 2.220446049250313e-16 * reach * stiffness)
 
 
+#: What :func:`_judge` makes of a ball state.
+SETTLED, LINEARISED, STEP = 0, 1, 2
+
+
+@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def _judge(st, reach, linearise):
+    """One look at a ball's state: (SETTLED, 0, 0, True) when its residual is within the ball's tolerance;
+    with ``linearise`` (LINEARISED, dB_r, dB_z, exact) when the Newton step dB is short against both
+    deflections (LINEAR_REACH; ``exact`` within LINEAR_RTOL); else (STEP, s_r, s_z, False) with the Newton
+    step s = G_B^-1 g (B - s is the next iterate). ``reach`` (mm) scales the ball's rounding floor."""
+    g_r, g_z, a, b, c, d = st[0], st[1], st[2], st[3], st[4], st[5]
+    if max(abs(g_r), abs(g_z)) <= _tolerance(st, reach):
+        return SETTLED, 0.0, 0.0, True
+    det = a * d - b * c
+    step_r = (d * g_r - b * g_z) / det
+    step_z = (a * g_z - c * g_r) / det
+    if linearise and st[34] > 0.0 and st[35] > 0.0:
+        moved_o = abs(st[29] * step_r + st[30] * step_z) / st[35]
+        moved_i = abs(st[27] * step_r + st[28] * step_z) / st[34]
+        if moved_o <= LINEAR_REACH and moved_i <= LINEAR_REACH:
+            swing = math.sqrt(step_r * step_r + step_z * step_z)  # the tangential part: against |B| ~ D
+            exact = max(moved_o, moved_i) <= LINEAR_RTOL and swing <= LINEAR_RTOL * reach
+            return LINEARISED, -step_r, -step_z, exact
+    return STEP, step_r, step_z, False
+
+
 @njit(fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
 def _newton(ur, uz, br, bz, p, w_i, w_o, smoothing_eps, max_iterations, linearise):
     """Newton on one ball's equilibrium g(B) = 0 from B = (br, bz); returns (state, br, bz, iterations,
@@ -291,23 +317,13 @@ def _newton(ur, uz, br, bz, p, w_i, w_o, smoothing_eps, max_iterations, linearis
     while True:
         # one call site: ball_state is inlined, and each site costs its whole body in compile time
         st = ball_state(ur, uz, br, bz, p, w_i, w_o, smoothing_eps)
-        g_r, g_z, a, b, c, d = st[0], st[1], st[2], st[3], st[4], st[5]
-        if max(abs(g_r), abs(g_z)) <= _tolerance(st, reach):
-            return st, br, bz, it, True, 0.0, 0.0, True
+        verdict, step_r, step_z, exact = _judge(st, reach, linearise)
+        if verdict != STEP:
+            return st, br, bz, it, True, step_r, step_z, exact
         if it == max_iterations:
             return st, br, bz, it, False, 0.0, 0.0, False
-        det = a * d - b * c
-        step_r = (d * g_r - b * g_z) / det
-        step_z = (a * g_z - c * g_r) / det
         shrink_o = st[29] * step_r + st[30] * step_z  # delta_o falls by n_o . step
         shrink_i = -(st[27] * step_r + st[28] * step_z)  # delta_i falls by -n_i . step
-        if linearise and st[34] > 0.0 and st[35] > 0.0:
-            moved_o = abs(shrink_o) / st[35]
-            moved_i = abs(shrink_i) / st[34]
-            if moved_o <= LINEAR_REACH and moved_i <= LINEAR_REACH:
-                swing = math.sqrt(step_r * step_r + step_z * step_z)  # the tangential part: against |B| ~ D
-                exact = max(moved_o, moved_i) <= LINEAR_RTOL and swing <= LINEAR_RTOL * reach
-                return st, br, bz, it, True, -step_r, -step_z, exact
         # a step may at most halve either deflection (Hertz contacts soften to nothing as they unload),
         # but may swing the ball round its contacts freely (the soft tangential direction)
         t = 1.0
@@ -429,9 +445,22 @@ def spinning_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact_a
         if warm is not None and warm[WARM_VALID, j] != 0.0:
             du_r = ur - warm[WARM_UR, j]
             du_z = uz - warm[WARM_UZ, j]
-            st, br, bz, iterations, settled, db_r, db_z, exact = settle_ball(
-                ur, uz, p, w_i, w_o, eps, warm[WARM_BR, j] - (warm[WARM_X00, j] * du_r + warm[WARM_X01, j] * du_z),
-                warm[WARM_BZ, j] - (warm[WARM_X10, j] * du_r + warm[WARM_X11, j] * du_z), True, linearise)
+            br = warm[WARM_BR, j] - (warm[WARM_X00, j] * du_r + warm[WARM_X01, j] * du_z)
+            bz = warm[WARM_BZ, j] - (warm[WARM_X10, j] * du_r + warm[WARM_X11, j] * du_z)
+            # the common case judged here, with no call: the prediction settled, or one short step from it
+            # (settle_ball's calls and their 40-number returns cost a third of the evaluation)
+            st = ball_state(ur, uz, br, bz, p, w_i, w_o, eps)
+            verdict, db_r, db_z, exact = _judge(st, p[INNER_RADIUS] + p[OUTER_RADIUS] + abs(ur) + abs(uz),
+                                                linearise)
+            iterations = 0
+            settled = True
+            # both contacts closed at a settled (or nearly settled) centre: the ball's one equilibrium (its
+            # potential is convex where it touches a race), so no need to ask start_position whether the
+            # rings leave it room to be free
+            if verdict == STEP or not (st[34] > 0.0 and st[35] > 0.0):
+                # a step to take or a contact open: the whole settle
+                st, br, bz, iterations, settled, db_r, db_z, exact = settle_ball(ur, uz, p, w_i, w_o, eps, br, bz,
+                                                                                 True, linearise)
         else:
             st, br, bz, iterations, settled, db_r, db_z, exact = settle_ball(ur, uz, p, w_i, w_o, eps, 0.0, 0.0,
                                                                              False, linearise)
