@@ -36,7 +36,8 @@ from numba import njit, types
 from numba.extending import overload
 
 from .config import (CACHE, DIVERGED_REACH, ERROR_MODEL, FASTMATH, NEWTON, SEARCH_CURVATURE, SEARCH_TRIALS,
-                     SMOOTHING_FIRST, SMOOTHING_LAST, SMOOTHING_RATIO, SMOOTHING_RTOL, STAGNATION_ITERATIONS)
+                     SMOOTHING_FIRST, SMOOTHING_LAST, SMOOTHING_RATIO, SMOOTHING_RTOL, STAGNATION_ITERATIONS,
+                     STILL_START_RTOL)
 from .high_speed import WARM_LINEARISE
 from .kernel import SETTLE_PASSES, ball_loop, settled_loop, slice_reach
 from .linalg import cholesky_solve, lu_solve
@@ -102,8 +103,9 @@ def _rounding_floor(total, Ks, q, D, arm, reach):
 def _cold_start(f_target, q, f, K, balls, D, max_step):
     """A first q along the load direction, sized so the balls carry about the load.
 
-    Starts small (so balls engage), then rescales with the Hertz exponent
-    using the load's projection; never q = 0, where Kb = 0 without preload.
+    Starts small (so balls engage; at speed the balls standing still), then
+    rescales with the Hertz exponent using the load's projection; never
+    q = 0, where Kb = 0 without preload.
     Leaves f and Kb evaluated at the returned q. Returns (evaluations,
     total load, loaded contacts, warning bits) of that evaluation.
     """
@@ -120,10 +122,13 @@ def _cold_start(f_target, q, f, K, balls, D, max_step):
     # the first element's exponent sets the rescale (exact for a uniform n): a ball's, else a slice's 10/9
     n_exp = balls[0][8, 0] if balls[0].shape[1] > 0 else 10.0 / 9.0
     evals = 0
+    # the size is a guess: at speed take it from the balls standing still (omega 0: the quasi-static loop,
+    # a tenth of the cost, and nothing for the high-speed balls' warm starts to forget)
+    still = (balls[0], balls[1], balls[2], balls[3], balls[4], 0.0, balls[6])
     for attempt in range(40):
         for i in range(5):
             q[i] = size * f_target[i] * D[i] * D[i] / norm
-        total, n_loaded, warn = ball_loop(q, balls, f, None, None, None)
+        total, n_loaded, warn = ball_loop(q, still, f, None, None, None)
         evals += 1
         if n_loaded > 0:
             break
@@ -477,6 +482,17 @@ def _smoothing_continuation(f_target, q, f, K, balls, settings, tol, arm, reach,
     return st, iterations + it, rmax, evals + ev, total, warn
 
 
+@njit(cache=CACHE, fastmath=FASTMATH, error_model=ERROR_MODEL, nogil=True)
+def _still_start(f_target, q, f, K, balls, settings, tol, arm, reach, D, work):
+    """q solving the load to ``tol`` with the balls standing still (omega 0: the quasi-static loop).
+    Returns (evaluations, iterations, whether q is a start worth taking)."""
+    still = (balls[0], balls[1], balls[2], balls[3], balls[4], 0.0, balls[6])
+    ev, total, n_loaded, warn = _cold_start(f_target, q, f, K, still, D, settings.max_step)
+    status, it, rmax, ev2, total, warn = _descend(f_target, q, f, K, total, n_loaded, warn, still, settings, tol,
+                                                  arm, reach, D, work)
+    return ev + ev2, it, status == CONVERGED
+
+
 @njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True)
 def with_warnings(status, warn):
     """A converged outcome with the kernel's warning bits on top; a ball at speed that did not settle
@@ -589,6 +605,13 @@ def _solve_case(f_target, q, f, K, balls, settings, warm, work, ball_load, conta
     iterations = 0
     evals = 0
     status = STALLED
+    if not warm and balls[5] != 0.0 and scale > 0.0:
+        # spinning and no start given: start from the balls standing still, roughly solved (a continuation
+        # in speed from 0); the spinning solve's own cold start stays the second attempt
+        ev, it, warm = _still_start(f_target, q, f, K, balls, settings, max(tol, STILL_START_RTOL * scale), arm,
+                                    reach, D, work)
+        evals += ev
+        iterations += it
     for attempt in range(2):
         if warm and attempt == 0:
             total, n_loaded, warn = ball_loop(q, balls, f, K, None, None)
