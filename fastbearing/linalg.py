@@ -45,13 +45,14 @@ def cholesky_solve(A, shift, b, x, L):
 
 
 @njit(cache=CACHE, fastmath=FASTMATH, error_model=ERROR_MODEL, nogil=True)
-def lu_solve(A, b, x, LU, perm):
-    """Solve A x = b by LU with partial pivoting (A unchanged); False if singular."""
+def lu_solve(A, b, x, LU, perm, shift=0.0):
+    """Solve (A + shift*I) x = b by LU with partial pivoting (A unchanged); False if singular."""
     n = A.shape[0]
     for i in range(n):
         perm[i] = i
         for j in range(n):
             LU[i, j] = A[i, j]
+        LU[i, i] += shift
     scale = 0.0
     for i in range(n):
         for j in range(n):
@@ -84,3 +85,17 @@ def lu_solve(A, b, x, LU, perm):
             s -= LU[i, k] * x[k]
         x[i] = s / LU[i, i]
     return True
+
+
+
+@njit(cache=CACHE, fastmath=FASTMATH, error_model=ERROR_MODEL, nogil=True)
+def stiffness_solve(A, shift, b, x, LU, perm):
+    """Solve (A + shift*I) x = b for a 5x5 stiffness A: Cholesky where A is exactly symmetric (Kb of the
+    quasi-static model, whose kernel mirrors its entries), else LU with partial pivoting (Kb at speed is
+    not symmetric: the gyroscopic moment's friction; its lower triangle alone would make Newton's
+    convergence linear). False where Cholesky finds A + shift*I not positive definite, or LU singular."""
+    for i in range(5):
+        for j in range(i):
+            if A[i, j] != A[j, i]:
+                return lu_solve(A, b, x, LU, perm, shift)
+    return cholesky_solve(A, shift, b, x, LU)

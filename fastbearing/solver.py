@@ -40,7 +40,7 @@ from .config import (CACHE, DIVERGED_REACH, ERROR_MODEL, FASTMATH, NEWTON, SEARC
                      STILL_START_RTOL)
 from .high_speed import WARM_LINEARISE
 from .kernel import SETTLE_PASSES, ball_loop, settled_loop, slice_reach
-from .linalg import cholesky_solve, lu_solve
+from .linalg import cholesky_solve, lu_solve, stiffness_solve
 from .status import (BALL_EQUILIBRIUM, BALL_LINEARISED, BALL_UNSETTLED, CONVERGED, ITERATION_LIMIT, NONFINITE_INPUT,
                      NONFINITE_RESULT, PRECISION_LIMIT, SINGULAR, STALLED, UNLOADED, WARNING_MASK)
 
@@ -221,7 +221,7 @@ def _descend(f_target, q, f, K, total, n_loaded, warn, balls, settings, tol, arm
         lam = lam * 0.1 if lam > 1e-12 else 0.0
         for attempt in range(12):
             if newton:
-                ok = cholesky_solve(Ks, lam * diag, rhs, dp, LU)
+                ok = stiffness_solve(Ks, lam * diag, rhs, dp, LU, perm)
             else:
                 ok = lu_solve(B, rhs, dp, LU, perm)
             if not ok:

@@ -14,7 +14,7 @@ from numba.extending import intrinsic, overload
 from .config import CACHE, ERROR_MODEL
 from .high_speed import N_WARM, WARM_VALID
 from .kernel import ball_loop, slice_count
-from .linalg import cholesky_solve
+from .linalg import stiffness_solve
 from .roots import cube_root
 from .solver import WORK_ROWS, solve_case, with_warnings
 from .status import CONVERGED, NONFINITE_RESULT, OUTCOME_MASK, UNLOADED
@@ -282,7 +282,8 @@ def tangent_predictor(given_load, target, q_prev, f_prev, K_prev, q, scratch):
 
     The neighbour's Kb is already computed, so this Euler step along the line
     costs one 5x5 solve and no kernel evaluation; it is second-order accurate
-    in the load step. Falls back to q_prev where Kb is singular.
+    in the load step. Falls back to q_prev where Kb is singular. ``scratch``
+    is (8, 5).
     """
     for d in range(5):
         q[d] = q_prev[d]
@@ -292,7 +293,7 @@ def tangent_predictor(given_load, target, q_prev, f_prev, K_prev, q, scratch):
     step = scratch[1]
     for d in range(5):
         rhs[d] = target[d] - f_prev[d]
-    if cholesky_solve(K_prev, 0.0, rhs, step, scratch[2:7]):
+    if stiffness_solve(K_prev, 0.0, rhs, step, scratch[2:7], scratch[7]):
         for d in range(5):
             if not np.isfinite(step[d]):
                 return
@@ -360,7 +361,7 @@ def map_sweep(inputs, given_load, segments, q, f, K, status, iterations, residua
     n_record = n_elements + (slice_count(balls[3]) if roller_life else 0) + (n_elements if spinning_life else 0)
     for g in prange(groups):
         work = np.empty((WORK_ROWS, 5))
-        predictor = np.empty((7, 5))
+        predictor = np.empty((8, 5))
         ball_load = np.empty(n_record)
         contact_angle = np.empty(n_record)
         sums = np.empty((max(life.shape[0], 1), 2))

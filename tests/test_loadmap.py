@@ -397,7 +397,7 @@ def test_curved_predictor_is_one_order_better_than_the_tangent():
         solved = [fb.solve(bearing, F, rtol=1e-13) for F in loads]
         assert all((fb.ball_loads(bearing, r.q)[0] > 0).all() for r in solved)
         q = np.empty(5)
-        tangent_predictor(True, loads[2], solved[1].q, solved[1].f, solved[1].K, q, np.empty((7, 5)))
+        tangent_predictor(True, loads[2], solved[1].q, solved[1].f, solved[1].K, q, np.empty((8, 5)))
         errors["tangent"].append(np.abs((q - solved[2].q) * D).max())
         curved_predictor(loads[2], loads[1], loads[0], solved[1].q, solved[0].q, q)
         errors["curved"].append(np.abs((q - solved[2].q) * D).max())

@@ -1,5 +1,7 @@
 """Load-given solves: the paper's tables, round trips, hard cases, statuses."""
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 from conftest import PAPER_LOADS
@@ -240,3 +242,28 @@ def test_loads_are_numbers_not_strings_booleans_or_complex(load):
     """One rule everywhere: numbers only; a numeric string is refused, not converted."""
     with pytest.raises(ValueError, match="f must be numbers"):
         fb.solve(fb.Bearing.preset("gunduz2013", "DB"), load)
+
+
+def test_the_stiffness_solve_takes_cholesky_for_a_symmetric_kb_and_lu_for_kb_at_speed():
+    """linalg.stiffness_solve: an exactly symmetric Kb (the quasi-static kernel mirrors its entries) goes
+    through Cholesky (a matrix that is not positive definite is refused), a Kb at speed (not symmetric: the
+    gyroscopic friction) through LU, which solves the whole matrix, not its lower triangle; both against
+    numpy.linalg.solve, shift included."""
+    from fastbearing.linalg import stiffness_solve
+
+    rng = np.random.default_rng(4)
+    M = rng.standard_normal((5, 5))
+    spd = M @ M.T + 5 * np.eye(5)
+    b = rng.standard_normal(5)
+    x, L, perm = np.empty(5), np.empty((5, 5)), np.empty(5)
+    for A in (spd, spd + 1e-3 * rng.standard_normal((5, 5))):
+        for shift in (0.0, 0.7):
+            assert stiffness_solve(A, shift, b, x, L, perm)
+            assert np.allclose(x, np.linalg.solve(A + shift * np.eye(5), b), rtol=1e-12, atol=1e-14)
+    assert not stiffness_solve(-spd, 0.0, b, x, L, perm)  # symmetric, not positive definite
+    spindle = Path(__file__).parent.parent / "data" / "bearings" / "7014C-DB.toml"
+    _, K = fb.stiffness(fb.load_bearing(spindle), [0.01, 0.0, 0.02, 1e-4, 0.0],
+                        speed=15000.0)
+    assert not np.array_equal(K, K.T)  # why LU: Kb at speed is not symmetric
+    assert stiffness_solve(K, 0.0, b, x, L, perm)
+    assert np.allclose(K @ x, b, rtol=1e-10, atol=1e-12 * np.abs(b).max())
