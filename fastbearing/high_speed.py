@@ -412,8 +412,9 @@ def spinning_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact_a
     in a record of 2 n_balls Q_o and alpha_o after them (a load map's life at speed);
     ``states`` (n_balls, N_STATE) or None records the whole ball. ``warm`` (N_WARM, n_balls) or None: each
     ball starts from its last settled centre moved by the first-order prediction (rows WARM_*), and
-    leaves its new one there; inside a solve (``warm`` row WARM_LINEARISE set) and with no record the balls
-    are linearised (:func:`_newton`: one ball state each where the prediction is good). Returns (sum of Q_i in N, loaded balls,
+    leaves its new one there; inside a solve (``warm`` row WARM_LINEARISE set) and without ``states`` the
+    balls are linearised (:func:`_newton`: one ball state each where the prediction is good; a record is
+    then taken at B, within LINEAR_RTOL of the model's when the evaluation is not flagged 8). Returns (sum of Q_i in N, loaded balls,
     warning bits: 1 contact reversed, 2 beyond validity, 4 a ball not settled, 8 a ball linearised with a
     step beyond LINEAR_RTOL: f and Kb first-order close, evaluate again for the model's).
     """
@@ -425,7 +426,7 @@ def spinning_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact_a
     flags = 0
     linearise = False
     if warm is not None and n > 0:
-        linearise = ball_load is None and states is None and warm[WARM_LINEARISE, 0] != 0.0
+        linearise = states is None and warm[WARM_LINEARISE, 0] != 0.0
     for j in range(n):
         c = table[0, j]
         s = table[1, j]

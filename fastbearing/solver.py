@@ -153,14 +153,19 @@ def _cold_start(f_target, q, f, K, balls, D, max_step):
 
 
 @njit(cache=CACHE, fastmath=FASTMATH, error_model=ERROR_MODEL, nogil=True)
-def _descend(f_target, q, f, K, total, n_loaded, warn, balls, settings, tol, arm, reach, D, work):
+def _descend(f_target, q, f, K, total, n_loaded, warn, balls, settings, tol, arm, reach, D, work, ball_load,
+             contact_angle):
     """The fast phase: Newton or Broyden from q; f, K, total, n_loaded, warn are the kernel's values at q.
 
     Stops when the scaled residual is within max(tol, rounding floor). On
     return f (and, for Newton, K) hold the values at the returned q, and
     work[_FLOOR, 0] the rounding floor there. Returns (status, iterations,
-    residual max-norm, evaluations, total load, the kernel's warning bits); any
-    status but CONVERGED sends the case to the fallback.
+    residual max-norm, evaluations, total load, the kernel's warning bits,
+    recorded); any status but CONVERGED sends the case to the fallback.
+    Newton at speed writes the per-ball record (``ball_load``,
+    ``contact_angle``, None: none) at every trial, and ``recorded`` says that
+    the returned q's is there: at speed the record costs a fraction of the
+    evaluation it would otherwise take after convergence.
     """
     g = work[_G]
     dp = work[_STEP]
@@ -185,6 +190,8 @@ def _descend(f_target, q, f, K, total, n_loaded, warn, balls, settings, tol, arm
         for j in range(5):
             B[i, j] = K[i, j] * D[i] * D[j]
     passes = 0
+    record_trials = newton and balls[5] != 0.0
+    recorded = False
     for it in range(settings.max_iter + 1):
         while True:
             if newton:
@@ -198,25 +205,28 @@ def _descend(f_target, q, f, K, total, n_loaded, warn, balls, settings, tol, arm
             # within tolerance, but on balls at speed linearised: evaluate at q again (each pass squares
             # their error) so that a converged answer is the model's
             passes += 1
-            if newton:
+            if record_trials:
+                total, n_loaded, warn = ball_loop(q, balls, f, K, ball_load, contact_angle)
+                recorded = True
+            elif newton:
                 total, n_loaded, warn = ball_loop(q, balls, f, K, None, None)
             else:
                 total, n_loaded, warn = ball_loop(q, balls, f, None, None, None)
             evals += 1
             rmax, r2 = _scaled_residual(f, f_target, D, g)
         if rmax <= max(tol, floor) and not warn & BALL_LINEARISED:
-            return CONVERGED, it, rmax, evals, total, warn
+            return CONVERGED, it, rmax, evals, total, warn, recorded
         if it == settings.max_iter or since_best >= STAGNATION_ITERATIONS:
             break
         if n_loaded == 0:
-            return SINGULAR, it, rmax, evals, total, warn
+            return SINGULAR, it, rmax, evals, total, warn, False
         for i in range(5):
             rhs[i] = -g[i]
         diag = 0.0
         for i in range(5):
             diag = max(diag, Ks[i, i] if newton else abs(B[i, i]))
         if not diag > 0.0:
-            return SINGULAR, it, rmax, evals, total, warn
+            return SINGULAR, it, rmax, evals, total, warn, False
         accepted = False
         lam = lam * 0.1 if lam > 1e-12 else 0.0
         for attempt in range(12):
@@ -247,7 +257,10 @@ def _descend(f_target, q, f, K, total, n_loaded, warn, balls, settings, tol, arm
             for h in range(_HALVINGS):
                 for i in range(5):
                     qt[i] = q[i] + t * dp[i] * D[i]
-                if newton:
+                if record_trials:
+                    tot_t, nl_t, nr_t = ball_loop(qt, balls, ft, Kt, ball_load, contact_angle)
+                    recorded = False  # q's record, if any, is overwritten: it is the trial's until accepted
+                elif newton:
                     tot_t, nl_t, nr_t = ball_loop(qt, balls, ft, Kt, None, None)
                 else:
                     tot_t, nl_t, nr_t = ball_loop(qt, balls, ft, None, None, None)
@@ -256,6 +269,7 @@ def _descend(f_target, q, f, K, total, n_loaded, warn, balls, settings, tol, arm
                 # an unloaded trial point has Kb = 0: no information to go on from
                 if nl_t > 0 and r2_t <= (1.0 - _ARMIJO * t) * r2:
                     accepted = True
+                    recorded = record_trials
                     break
                 t *= 0.5
             if accepted:
@@ -275,7 +289,7 @@ def _descend(f_target, q, f, K, total, n_loaded, warn, balls, settings, tol, arm
                 for i in range(5):
                     B[i, i] += lam * diag
         if not accepted:
-            return STALLED, it, rmax, evals, total, warn
+            return STALLED, it, rmax, evals, total, warn, False
         if not newton:
             # good Broyden update: B += (y - B s) s^T / (s^T s), y = g_t - g, s = t*dp
             ss = 0.0
@@ -310,7 +324,7 @@ def _descend(f_target, q, f, K, total, n_loaded, warn, balls, settings, tol, arm
             since_best = 0
         else:
             since_best += 1
-    return ITERATION_LIMIT, settings.max_iter, rmax, evals, total, warn
+    return ITERATION_LIMIT, settings.max_iter, rmax, evals, total, warn, False
 
 
 @njit(cache=CACHE, fastmath=FASTMATH, error_model=ERROR_MODEL, nogil=True)
@@ -488,8 +502,8 @@ def _still_start(f_target, q, f, K, balls, settings, tol, arm, reach, D, work):
     Returns (evaluations, iterations, whether q is a start worth taking)."""
     still = (balls[0], balls[1], balls[2], balls[3], balls[4], 0.0, balls[6])
     ev, total, n_loaded, warn = _cold_start(f_target, q, f, K, still, D, settings.max_step)
-    status, it, rmax, ev2, total, warn = _descend(f_target, q, f, K, total, n_loaded, warn, still, settings, tol,
-                                                  arm, reach, D, work)
+    status, it, rmax, ev2, total, warn, _ = _descend(f_target, q, f, K, total, n_loaded, warn, still, settings, tol,
+                                                     arm, reach, D, work, None, None)
     return ev + ev2, it, status == CONVERGED
 
 
@@ -605,6 +619,7 @@ def _solve_case(f_target, q, f, K, balls, settings, warm, work, ball_load, conta
     iterations = 0
     evals = 0
     status = STALLED
+    recorded = False
     if not warm and balls[5] != 0.0 and scale > 0.0:
         # spinning and no start given: start from the balls standing still, roughly solved (a continuation
         # in speed from 0); the spinning solve's own cold start stays the second attempt
@@ -627,8 +642,9 @@ def _solve_case(f_target, q, f, K, balls, settings, warm, work, ball_load, conta
                 q[i] = 0.0
             settled_loop(q, balls, f, K, ball_load, contact_angle)
             return SolveOutcome(UNLOADED, 0, 0.0, evals + 1)
-        status, it, rmax, ev, total, warn = _descend(f_target, q, f, K, total, n_loaded, warn, balls, settings,
-                                                      tol, arm, reach, D, work)
+        status, it, rmax, ev, total, warn, recorded = _descend(f_target, q, f, K, total, n_loaded, warn, balls,
+                                                                settings, tol, arm, reach, D, work, ball_load,
+                                                                contact_angle)
         iterations += it
         evals += ev
         if status == CONVERGED:
@@ -640,7 +656,7 @@ def _solve_case(f_target, q, f, K, balls, settings, warm, work, ball_load, conta
         evals += ev
     floor = work[_FLOOR, 0]
     newton_done = settings.method == NEWTON and status == CONVERGED
-    if not newton_done or ball_load is not None:
+    if not newton_done or (ball_load is not None and not recorded):
         if newton_done:
             # Newton's last accepted step already left f and Kb at q: the record alone (Kb would cost a third)
             total, n_loaded, warn = settled_loop(q, balls, f, None, ball_load, contact_angle)
