@@ -363,7 +363,9 @@ def settle_ball(ur, uz, p, w_i, w_o, smoothing_eps, warm_br=0.0, warm_bz=0.0, wa
         if pinched:  # the warm start failed: start over from the usual guess
             br, bz, loaded = start_position(ur, uz, p, w_i, w_o, smoothing_eps)
     if not loaded:
-        return ball_state(ur, uz, br, bz, p, w_i, w_o, smoothing_eps), br, bz, -1, True, 0.0, 0.0, True
+        # the state where it sits (through _newton with no iteration: one inlined ball_state fewer to compile)
+        st = _newton(ur, uz, br, bz, p, w_i, w_o, smoothing_eps, 0, False)[0]
+        return st, br, bz, -1, True, 0.0, 0.0, True
     return _newton(ur, uz, br, bz, p, w_i, w_o, smoothing_eps, BALL_ITERATIONS, linearise)
 
 

@@ -497,13 +497,14 @@ def _smoothing_continuation(f_target, q, f, K, balls, settings, tol, arm, reach,
 
 
 @njit(cache=CACHE, fastmath=FASTMATH, error_model=ERROR_MODEL, nogil=True)
-def _still_start(f_target, q, f, K, balls, settings, tol, arm, reach, D, work):
+def _still_start(f_target, q, f, K, balls, settings, tol, arm, reach, D, work, ball_load, contact_angle):
     """q solving the load to ``tol`` with the balls standing still (omega 0: the quasi-static loop).
-    Returns (evaluations, iterations, whether q is a start worth taking)."""
+    Returns (evaluations, iterations, whether q is a start worth taking). The record arrays are only
+    passed on (nothing is recorded standing still), so that _descend compiles once per solve_case."""
     still = (balls[0], balls[1], balls[2], balls[3], balls[4], 0.0, balls[6])
     ev, total, n_loaded, warn = _cold_start(f_target, q, f, K, still, D, settings.max_step)
     status, it, rmax, ev2, total, warn, _ = _descend(f_target, q, f, K, total, n_loaded, warn, still, settings, tol,
-                                                     arm, reach, D, work, None, None)
+                                                     arm, reach, D, work, ball_load, contact_angle)
     return ev + ev2, it, status == CONVERGED
 
 
@@ -624,7 +625,7 @@ def _solve_case(f_target, q, f, K, balls, settings, warm, work, ball_load, conta
         # spinning and no start given: start from the balls standing still, roughly solved (a continuation
         # in speed from 0); the spinning solve's own cold start stays the second attempt
         ev, it, warm = _still_start(f_target, q, f, K, balls, settings, max(tol, STILL_START_RTOL * scale), arm,
-                                    reach, D, work)
+                                    reach, D, work, ball_load, contact_angle)
         evals += ev
         iterations += it
     for attempt in range(2):
