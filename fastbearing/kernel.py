@@ -177,8 +177,9 @@ def ball_loop(q, balls, f, K, ball_load, contact_angle):
         ball's contact angle has the opposite sign to its row's contact
         direction, BEYOND_VALIDITY when a ball's deflection exceeds its
         row's deflection limit (table row DEFLECTION_LIMIT); at speed the
-        kernel flags BALL_UNSETTLED and, with warm starts and no record,
-        BALL_LINEARISED (f and Kb first-order close: see :func:`settled_loop`).
+        kernel flags BALL_UNSETTLED and, inside a solve (the warm starts'
+        WARM_LINEARISE set by solver.solve_case), BALL_LINEARISED (f and Kb
+        first-order close: see :func:`settled_loop`).
     """
     table, exponent, smoothing, slices, speed_table, omega, warm = balls
     total, n_loaded, warnings = ball_rows(q, table, exponent, smoothing, speed_table, omega, warm, f, K,
@@ -461,9 +462,8 @@ SETTLE_PASSES = 6
 @njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, nogil=True)
 def settled_loop(q, balls, f, K, ball_load, contact_angle):
     """:func:`ball_loop` evaluated until no ball at speed is left linearised (BALL_LINEARISED): the
-    model's f and Kb at q for a caller that keeps them (a substitution, the solver's last word). A ball
-    set without speed, or without warm starts, takes one evaluation. Still linearised after
-    SETTLE_PASSES: BALL_UNSETTLED."""
+    model's f and Kb at q for the solver's last word (its record or unloaded evaluation). Outside a
+    solve, or without speed, one evaluation. Still linearised after SETTLE_PASSES: BALL_UNSETTLED."""
     total, n_loaded, warnings = ball_loop(q, balls, f, K, ball_load, contact_angle)
     for _ in range(SETTLE_PASSES - 1):
         if not warnings & BALL_LINEARISED:
