@@ -45,7 +45,7 @@ def cholesky_solve(A, shift, b, x, L):
 
 
 @njit(cache=CACHE, fastmath=FASTMATH, error_model=ERROR_MODEL, nogil=True)
-def lu_solve(A, b, x, LU, perm, shift=0.0):
+def lu_solve(A, b, x, LU, perm, shift):
     """Solve (A + shift*I) x = b by LU with partial pivoting (A unchanged); False if singular."""
     n = A.shape[0]
     for i in range(n):

@@ -32,8 +32,7 @@ bearing, say) ends as ``PRECISION_LIMIT`` once it reaches the floor, never as
 import math
 from collections import namedtuple
 
-from numba import njit, types
-from numba.extending import overload
+from numba import njit
 
 from .config import (CACHE, DIVERGED_REACH, ERROR_MODEL, FASTMATH, NEWTON, SEARCH_CURVATURE, SEARCH_TRIALS,
                      SMOOTHING_FIRST, SMOOTHING_LAST, SMOOTHING_RATIO, SMOOTHING_RTOL, STAGNATION_ITERATIONS,
@@ -233,7 +232,7 @@ def _descend(f_target, q, f, K, total, n_loaded, warn, balls, settings, tol, arm
             if newton:
                 ok = stiffness_solve(Ks, lam * diag, rhs, dp, LU, perm)
             else:
-                ok = lu_solve(B, rhs, dp, LU, perm)
+                ok = lu_solve(B, rhs, dp, LU, perm, 0.0)
             if not ok:
                 if not newton:
                     # singular secant matrix: regularise it once, then retry
@@ -527,20 +526,13 @@ def _all_finite(q, f, K):
     return ok
 
 
+@njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True)
 def _take_linearised(spin, allowed):
     """Tell the balls at speed (warm-start scratch ``spin``, None without speed) whether this solve takes
     linearised balls: the solver's tests see BALL_LINEARISED and evaluate again before they converge."""
-
-
-@overload(_take_linearised)
-def _take_linearised_impl(spin, allowed):
-    if isinstance(spin, types.NoneType):
-        return lambda spin, allowed: None
-
-    def tell(spin, allowed):
+    if spin is not None:  # pruned while typing for a ball set without speed
         if spin.shape[1] > 0:
             spin[WARM_LINEARISE, 0] = 1.0 if allowed else 0.0
-    return tell
 
 
 @njit(cache=CACHE, fastmath=FASTMATH, error_model=ERROR_MODEL, nogil=True)
@@ -577,15 +569,6 @@ def solve_case(f_target, q, f, K, balls, settings, warm, work, ball_load, contac
 
     Balls at speed are linearised while it runs (high_speed.LINEAR_RTOL); the answer is the model's.
     """
-    _take_linearised(balls[6], True)
-    out = _solve_case(f_target, q, f, K, balls, settings, warm, work, ball_load, contact_angle)
-    _take_linearised(balls[6], False)
-    return out
-
-
-@njit(cache=CACHE, fastmath=FASTMATH, error_model=ERROR_MODEL, nogil=True)
-def _solve_case(f_target, q, f, K, balls, settings, warm, work, ball_load, contact_angle):
-    """:func:`solve_case` itself."""
     D = work[_D]
     D[0] = D[1] = D[2] = 1.0
     D[3] = D[4] = 1.0 / settings.length_scale
@@ -621,6 +604,8 @@ def _solve_case(f_target, q, f, K, balls, settings, warm, work, ball_load, conta
     evals = 0
     status = STALLED
     recorded = False
+    spin = balls[6]
+    _take_linearised(spin, True)  # cleared again on every return below
     if not warm and balls[5] != 0.0 and scale > 0.0:
         # spinning and no start given: start from the balls standing still, roughly solved (a continuation
         # in speed from 0); the spinning solve's own cold start stays the second attempt
@@ -642,6 +627,7 @@ def _solve_case(f_target, q, f, K, balls, settings, warm, work, ball_load, conta
             for i in range(5):
                 q[i] = 0.0
             settled_loop(q, balls, f, K, ball_load, contact_angle)
+            _take_linearised(spin, False)
             return SolveOutcome(UNLOADED, 0, 0.0, evals + 1)
         status, it, rmax, ev, total, warn, recorded = _descend(f_target, q, f, K, total, n_loaded, warn, balls,
                                                                 settings, tol, arm, reach, D, work, ball_load,
@@ -665,6 +651,7 @@ def _solve_case(f_target, q, f, K, balls, settings, warm, work, ball_load, conta
             total, n_loaded, warn = settled_loop(q, balls, f, K, ball_load, contact_angle)
         evals += 1
         rmax, r2 = _scaled_residual(f, f_target, D, work[_G])
+    _take_linearised(spin, False)
     if not _all_finite(q, f, K):
         return SolveOutcome(NONFINITE_RESULT, iterations, math.nan, evals)
     if status == CONVERGED and floor > tol and scale > 0.0:
