@@ -151,6 +151,17 @@ def _cold_start(f_target, q, f, K, balls, D, max_step):
     return evals + 1, total, n_loaded, warn
 
 
+@njit(inline="always", fastmath=FASTMATH, error_model=ERROR_MODEL)
+def _evaluate(x, balls, fx, Kx, newton, record, ball_load, contact_angle):
+    """One evaluation of the fast phase at x into fx (and Kx for Newton; Broyden needs f alone), with the
+    per-ball record when ``record``."""
+    if record:
+        return ball_loop(x, balls, fx, Kx, ball_load, contact_angle)
+    if newton:
+        return ball_loop(x, balls, fx, Kx, None, None)
+    return ball_loop(x, balls, fx, None, None, None)
+
+
 @njit(cache=CACHE, fastmath=FASTMATH, error_model=ERROR_MODEL, nogil=True)
 def _descend(f_target, q, f, K, total, n_loaded, warn, balls, settings, tol, arm, reach, D, work, ball_load,
              contact_angle):
@@ -204,13 +215,8 @@ def _descend(f_target, q, f, K, total, n_loaded, warn, balls, settings, tol, arm
             # within tolerance, but on balls at speed linearised: evaluate at q again (each pass squares
             # their error) so that a converged answer is the model's
             passes += 1
-            if record_trials:
-                total, n_loaded, warn = ball_loop(q, balls, f, K, ball_load, contact_angle)
-                recorded = True
-            elif newton:
-                total, n_loaded, warn = ball_loop(q, balls, f, K, None, None)
-            else:
-                total, n_loaded, warn = ball_loop(q, balls, f, None, None, None)
+            total, n_loaded, warn = _evaluate(q, balls, f, K, newton, record_trials, ball_load, contact_angle)
+            recorded = record_trials
             evals += 1
             rmax, r2 = _scaled_residual(f, f_target, D, g)
         if rmax <= max(tol, floor) and not warn & BALL_LINEARISED:
@@ -256,13 +262,9 @@ def _descend(f_target, q, f, K, total, n_loaded, warn, balls, settings, tol, arm
             for h in range(_HALVINGS):
                 for i in range(5):
                     qt[i] = q[i] + t * dp[i] * D[i]
+                tot_t, nl_t, nr_t = _evaluate(qt, balls, ft, Kt, newton, record_trials, ball_load, contact_angle)
                 if record_trials:
-                    tot_t, nl_t, nr_t = ball_loop(qt, balls, ft, Kt, ball_load, contact_angle)
                     recorded = False  # q's record, if any, is overwritten: it is the trial's until accepted
-                elif newton:
-                    tot_t, nl_t, nr_t = ball_loop(qt, balls, ft, Kt, None, None)
-                else:
-                    tot_t, nl_t, nr_t = ball_loop(qt, balls, ft, None, None, None)
                 evals += 1
                 rmax_t, r2_t = _scaled_residual(ft, f_target, D, gt)
                 # an unloaded trial point has Kb = 0: no information to go on from
