@@ -35,6 +35,7 @@ columns so that F_c comes out in N and M_g in N*mm.
 
 import math
 
+import numpy as np
 from numba import njit
 
 from .config import ERROR_MODEL, KERNEL_FASTMATH
@@ -356,8 +357,10 @@ def settle_ball(ur, uz, p, w_i, w_o, smoothing_eps, warm_br=0.0, warm_bz=0.0, wa
     else:
         br, bz, loaded = warm_br, warm_bz, True
     if warm and loaded:
+        # the iteration limits typed as int64, not literals: numba would compile _newton (and the ball state
+        # inlined in it) once per literal, about 1.7 s each
         st, wbr, wbz, it, settled, db_r, db_z, exact = _newton(ur, uz, warm_br, warm_bz, p, w_i, w_o,
-                                                               smoothing_eps, WARM_ITERATIONS, linearise)
+                                                               smoothing_eps, np.int64(WARM_ITERATIONS), linearise)
         if settled and st[34] > 0.0 and st[35] > 0.0:
             return st, wbr, wbz, it, True, db_r, db_z, exact
         if pinched:  # the warm start failed: start over from the usual guess
@@ -366,7 +369,7 @@ def settle_ball(ur, uz, p, w_i, w_o, smoothing_eps, warm_br=0.0, warm_bz=0.0, wa
         # the state where it sits (through _newton with no iteration: one inlined ball_state fewer to compile)
         st = _newton(ur, uz, br, bz, p, w_i, w_o, smoothing_eps, 0, False)[0]
         return st, br, bz, -1, True, 0.0, 0.0, True
-    return _newton(ur, uz, br, bz, p, w_i, w_o, smoothing_eps, BALL_ITERATIONS, linearise)
+    return _newton(ur, uz, br, bz, p, w_i, w_o, smoothing_eps, np.int64(BALL_ITERATIONS), linearise)
 
 
 @njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
