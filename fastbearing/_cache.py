@@ -13,7 +13,8 @@ from pathlib import Path
 
 _PACKAGE = Path(__file__).parent
 #: Modules holding @njit code (and the constants it compiles in).
-KERNEL_MODULES = ("config.py", "status.py", "roots.py", "high_speed.py", "kernel.py", "linalg.py", "solver.py", "sweep.py")
+KERNEL_MODULES = ("config.py", "status.py", "roots.py", "trig.py", "deflection.py", "high_speed.py", "kernel.py",
+                  "linalg.py", "solver.py", "sweep.py")
 _STAMP_NAME = "fastbearing-numba-cache.stamp"
 
 

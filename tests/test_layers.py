@@ -74,6 +74,18 @@ def test_no_import_circles():
     assert cycle is None, " -> ".join(cycle)
 
 
+def test_every_module_with_kernels_is_in_the_cache_hash():
+    """A module whose @njit code (or a constant compiled into it) is not hashed would leave its callers'
+    cached machine code stale when it changes (numba tracks a function's own file only)."""
+    import re
+
+    from fastbearing import _cache
+
+    jitted = {path.name for path in PACKAGE.glob("*.py") if path.name != "_cache.py"
+              and re.search(r"^@(njit|overload|intrinsic|generated_jit)\b", path.read_text(), re.M)}
+    assert jitted <= set(_cache.KERNEL_MODULES), sorted(jitted - set(_cache.KERNEL_MODULES))
+
+
 def test_stale_kernel_cache_is_dropped_also_under_numba_cache_dir(tmp_path):
     """A changed kernel source must never run old machine code, wherever numba keeps its cache."""
     import os
