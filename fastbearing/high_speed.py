@@ -75,6 +75,22 @@ N_WARM = 10
 #: Newton iterations a warm start gets before the ball is settled again from :func:`start_position`.
 WARM_ITERATIONS = 12
 
+#: The predicted balls' summaries (:func:`_summary`), CHUNK balls at a time, in the warm scratch's tail rows
+#: read as one flat array with the constant row stride CHUNK: so laid out the loop that fills them
+#: vectorises (4 balls per AVX2 instruction); written to the rows of a 2D array it stays scalar (one store
+#: stream per field, and LLVM's runtime alias checks exceed its limit).
+CHUNK = 32
+(S_GR, S_GZ, S_QI, S_QO, S_CI, S_SI, S_CO, S_SO, S_FC, S_MG, S_WM, S_DI, S_DO, S_X00, S_X01, S_X10, S_X11, S_FR,
+ S_FZ, S_M, S_K00, S_K01, S_K10, S_K11, S_M0, S_M1, S_BR, S_BZ, S_VERDICT, S_EXACT, S_DBR, S_DBZ, S_LOADED) = range(33)
+N_SUMMARY = 33
+
+
+@njit(cache=True)
+def warm_rows(n_balls):
+    """Rows of a ball set's warm scratch for ``n_balls`` balls: the N_WARM rows of warm starts and room for
+    one chunk of summaries after them."""
+    return N_WARM + (N_SUMMARY * CHUNK + n_balls - 1) // max(n_balls, 1)
+
 
 @njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
 def _race(L, r0, k, smoothing_eps):
@@ -267,6 +283,10 @@ def start_position(ur, uz, p, w_i, w_o, smoothing_eps):
     return x * er + h * pr, x * ez + h * pz, True
 
 
+#: start_position inlined, for the loop over a chunk of cold balls (a call would keep it scalar)
+_start_inline = njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)(start_position.py_func)
+
+
 @njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
 def _tolerance(st, reach):
     """The residual (N) at which a ball is settled: BALL_RTOL of its largest force, or the rounding floor
@@ -404,24 +424,159 @@ def _add_column(acc, c, s, z, R, k00, k01, k10, k11, m0, m1, a, b):
     return (acc[0] + c * ra, acc[1] + s * ra, acc[2] + rb, acc[3] + s * rm, acc[4] - c * rm)
 
 
+@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def _summary(st, db_r, db_z):
+    """What the ring loop needs of a ball state (mirrored frame): the residual, the loads, normals, F_c, M_g,
+    omega_m and deflections of the state, its sensitivity X, the ring force (F_r, F_z) and moment m to
+    first order at B + dB, and the condensed stiffness (dF/du 2x2, dm/du 2); fields S_GR..S_M1."""
+    x00, x01, x10, x11 = sensitivity(st)
+    k00, k01, k10, k11, m0, m1 = condensed(st, x00, x01, x10, x11)
+    return (st[0], st[1], st[25], st[26], st[27], st[28], st[29], st[30], st[31], st[32], st[33], st[34], st[35],
+            x00, x01, x10, x11,
+            st[10] + (st[16] * db_r + st[17] * db_z), st[11] + (st[18] * db_r + st[19] * db_z),
+            st[20] + (st[23] * db_r + st[24] * db_z), k00, k01, k10, k11, m0, m1)
+
+
+@njit(inline="always")
+def _write_summary(out, i, sm):
+    """Store a :func:`_summary` as ball i of a chunk (field k at k*CHUNK + i: one store stream)."""
+    out[0 * CHUNK + i] = sm[0]
+    out[1 * CHUNK + i] = sm[1]
+    out[2 * CHUNK + i] = sm[2]
+    out[3 * CHUNK + i] = sm[3]
+    out[4 * CHUNK + i] = sm[4]
+    out[5 * CHUNK + i] = sm[5]
+    out[6 * CHUNK + i] = sm[6]
+    out[7 * CHUNK + i] = sm[7]
+    out[8 * CHUNK + i] = sm[8]
+    out[9 * CHUNK + i] = sm[9]
+    out[10 * CHUNK + i] = sm[10]
+    out[11 * CHUNK + i] = sm[11]
+    out[12 * CHUNK + i] = sm[12]
+    out[13 * CHUNK + i] = sm[13]
+    out[14 * CHUNK + i] = sm[14]
+    out[15 * CHUNK + i] = sm[15]
+    out[16 * CHUNK + i] = sm[16]
+    out[17 * CHUNK + i] = sm[17]
+    out[18 * CHUNK + i] = sm[18]
+    out[19 * CHUNK + i] = sm[19]
+    out[20 * CHUNK + i] = sm[20]
+    out[21 * CHUNK + i] = sm[21]
+    out[22 * CHUNK + i] = sm[22]
+    out[23 * CHUNK + i] = sm[23]
+    out[24 * CHUNK + i] = sm[24]
+    out[25 * CHUNK + i] = sm[25]
+
+
+@njit(inline="always")
+def _read_summary(out, i):
+    """Ball i of a chunk: its :func:`_summary`, the centre B taken (br, bz), the linearised step (db_r,
+    db_z), whether that is exact, and the verdict of :func:`_judge`."""
+    sm = (out[0 * CHUNK + i], out[1 * CHUNK + i], out[2 * CHUNK + i], out[3 * CHUNK + i],
+          out[4 * CHUNK + i], out[5 * CHUNK + i], out[6 * CHUNK + i], out[7 * CHUNK + i],
+          out[8 * CHUNK + i], out[9 * CHUNK + i], out[10 * CHUNK + i], out[11 * CHUNK + i],
+          out[12 * CHUNK + i], out[13 * CHUNK + i], out[14 * CHUNK + i], out[15 * CHUNK + i],
+          out[16 * CHUNK + i], out[17 * CHUNK + i], out[18 * CHUNK + i], out[19 * CHUNK + i],
+          out[20 * CHUNK + i], out[21 * CHUNK + i], out[22 * CHUNK + i], out[23 * CHUNK + i],
+          out[24 * CHUNK + i], out[25 * CHUNK + i])
+    return (sm, out[S_BR * CHUNK + i], out[S_BZ * CHUNK + i], out[S_DBR * CHUNK + i], out[S_DBZ * CHUNK + i],
+            out[S_EXACT * CHUNK + i] != 0.0, out[S_VERDICT * CHUNK + i])
+
+
+#: A placeholder summary (its type), for a ball the loop settles.
+_NO_SUMMARY = (0.0,) * 26
+
+
+@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def _inner_centre(q, table, j):
+    """The inner groove centre u = (ur, uz) of ball j (mm from its outer groove centre, mirrored frame) at
+    the ring displacement q."""
+    c = table[0, j]
+    s = table[1, j]
+    z = table[2, j]
+    R = table[3, j]
+    dr = (q[0] + z * q[4]) * c + (q[1] - z * q[3]) * s
+    dzb = q[2] + R * (q[3] * s - q[4] * c)
+    return dr + table[4, j], table[10, j] * (dzb + table[5, j])  # mirrored: the row's contact direction is +z
+
+
+@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def _ball_constants(speed_table, j, omega):
+    """Ball j's column of the high-speed table as a tuple, and its ring speeds (w_i, w_o) in rad/s."""
+    p = (speed_table[0, j], speed_table[1, j], speed_table[2, j], speed_table[3, j], speed_table[4, j],
+         speed_table[5, j], speed_table[6, j], speed_table[7, j], speed_table[8, j], speed_table[9, j],
+         speed_table[10, j], speed_table[11, j], speed_table[12, j], speed_table[13, j], speed_table[14, j])
+    outer = speed_table[OUTER_ROTATES, j]
+    return p, omega * (1.0 - outer), omega * outer
+
+
+@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def _prediction(warm, j, ur, uz):
+    """Ball j's first-order start B - X (u' - u) from its warm start (mm, mirrored frame)."""
+    du_r = ur - warm[WARM_UR, j]
+    du_z = uz - warm[WARM_UZ, j]
+    return (warm[WARM_BR, j] - (warm[WARM_X00, j] * du_r + warm[WARM_X01, j] * du_z),
+            warm[WARM_BZ, j] - (warm[WARM_X10, j] * du_r + warm[WARM_X11, j] * du_z))
+
+
+@njit(fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def _predicted_chunk(q, table, speed_table, omega, eps, warm, out, j0, m, linearise, cold):
+    """Balls j0 .. j0+m-1 at their first-order predictions from ``warm`` (``cold``: at their cold guesses,
+    :func:`start_position`, S_LOADED saying whether it touches the inner race): state, judgement
+    (:func:`_judge`) and :func:`_summary` into ``out`` (flat, field k of ball j0+i at k*CHUNK + i).
+    Branch-free passes over the balls, so that they vectorise; a ball without a warm start in a warm
+    chunk gets a meaningless summary, which the caller does not read."""
+    if cold:
+        for i in range(m):
+            ur, uz = _inner_centre(q, table, j0 + i)
+            p, w_i, w_o = _ball_constants(speed_table, j0 + i, omega)
+            br, bz, loaded = _start_inline(ur, uz, p, w_i, w_o, eps)
+            out[S_BR * CHUNK + i] = br
+            out[S_BZ * CHUNK + i] = bz
+            out[S_LOADED * CHUNK + i] = 1.0 if loaded else 0.0
+    for i in range(m):
+        j = j0 + i
+        ur, uz = _inner_centre(q, table, j)
+        p, w_i, w_o = _ball_constants(speed_table, j, omega)
+        br, bz = _prediction(warm, j, ur, uz)
+        if cold:
+            br = out[S_BR * CHUNK + i]
+            bz = out[S_BZ * CHUNK + i]
+        st = ball_state(ur, uz, br, bz, p, w_i, w_o, eps)
+        verdict, db_r, db_z, exact = _judge(st, p[INNER_RADIUS] + p[OUTER_RADIUS] + abs(ur) + abs(uz), linearise)
+        sm = _summary(st, db_r, db_z)
+        _write_summary(out, i, sm)
+        out[S_BR * CHUNK + i] = br
+        out[S_BZ * CHUNK + i] = bz
+        out[S_VERDICT * CHUNK + i] = verdict
+        out[S_EXACT * CHUNK + i] = 1.0 if exact else 0.0
+        out[S_DBR * CHUNK + i] = db_r
+        out[S_DBZ * CHUNK + i] = db_z
+
+
 @njit(fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
 def spinning_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact_angle, states, warm):
     """Write f (5) and, unless ``K`` is None, Kb (5x5, not symmetric) of the ball rows at shaft speed.
 
     ``table`` is the quasi-static ball table (bearing.ball_table), ``speed_table`` (N_SPEED_COLUMNS,
-    n_balls) the balls' high-speed constants, ``omega`` the shaft speed in rad/s, ``eps`` the solver's smoothing (mm; 0: the
-    exact contact law). Each ball's centre is settled by :func:`settle_ball`; the ring gets its inner
+    n_balls) the balls' high-speed constants, ``omega`` the shaft speed in rad/s, ``eps`` the solver's
+    smoothing (mm; 0: the exact contact law). Each ball's centre is settled; the ring gets its inner
     contact's force (and the friction's moment) through the same J = [a; b] as the quasi-static ball,
     and Kb += J^T (dF/du) J + w (dm/du) J per ball with w = (0, 0, 0, sin psi, -cos psi).
     ``ball_load``/``contact_angle`` record Q_i (N) and alpha_i (rad, positive on the row's direction), and
-    in a record of 2 n_balls Q_o and alpha_o after them (a load map's life at speed);
-    ``states`` (n_balls, N_STATE) or None records the whole ball. ``warm`` (N_WARM, n_balls) or None: each
-    ball starts from its last settled centre moved by the first-order prediction (rows WARM_*), and
-    leaves its new one there; inside a solve (``warm`` row WARM_LINEARISE set) and without ``states`` the
-    balls are linearised (:func:`_newton`: one ball state each where the prediction is good; a record is
-    then taken at B, within LINEAR_RTOL of the model's when the evaluation is not flagged 8). Returns (sum of Q_i in N, loaded balls,
-    warning bits: 1 contact reversed, 2 beyond validity, 4 a ball not settled, 8 a ball linearised with a
-    step beyond LINEAR_RTOL: f and Kb first-order close, evaluate again for the model's).
+    in a record of 2 n_balls Q_o and alpha_o after them (a load map's life at speed); ``states``
+    (n_balls, N_STATE) or None records the whole ball.
+
+    ``warm`` (:func:`warm_rows` (n_balls), n_balls) or None: each ball starts from its last settled centre
+    moved by the first-order prediction (rows WARM_*) and leaves its new one there. CHUNK balls at a time,
+    one vectorised pass (:func:`_predicted_chunk`) takes every ball's state at its prediction (at its cold
+    guess in a chunk with no warm start at all) into the scratch's tail; the loop then takes each summary
+    that will do and settles the others one by one (:func:`settle_ball`). Inside a solve (``warm`` row
+    WARM_LINEARISE set) and without ``states`` the balls are linearised (:func:`_judge`: one ball state each
+    where the prediction is good; a record is then taken at B, within LINEAR_RTOL of the model's when the
+    evaluation is not flagged 8). Returns (sum of Q_i in N, loaded balls, warning bits: 1 contact reversed,
+    2 beyond validity, 4 a ball not settled, 8 a ball linearised with a step beyond LINEAR_RTOL: f and Kb
+    first-order close, evaluate again for the model's).
     """
     n = table.shape[1]
     f0 = f1 = f2 = f3 = f4 = 0.0
@@ -430,112 +585,126 @@ def spinning_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact_a
     n_loaded = 0
     flags = 0
     linearise = False
+    predicted = False
     if warm is not None and n > 0:
         linearise = states is None and warm[WARM_LINEARISE, 0] != 0.0
-    for j in range(n):
-        c = table[0, j]
-        s = table[1, j]
-        z = table[2, j]
-        R = table[3, j]
-        sgn = table[10, j]
-        dr = (q[0] + z * q[4]) * c + (q[1] - z * q[3]) * s
-        dzb = q[2] + R * (q[3] * s - q[4] * c)
-        ur = dr + table[4, j]
-        uz = sgn * (dzb + table[5, j])  # mirrored: the row's contact direction is +z
-        p = (speed_table[0, j], speed_table[1, j], speed_table[2, j], speed_table[3, j], speed_table[4, j],
-             speed_table[5, j], speed_table[6, j], speed_table[7, j], speed_table[8, j], speed_table[9, j],
-             speed_table[10, j], speed_table[11, j], speed_table[12, j], speed_table[13, j], speed_table[14, j])
-        outer = speed_table[OUTER_ROTATES, j]
-        w_i = omega * (1.0 - outer)
-        w_o = omega * outer
-        if warm is not None and warm[WARM_VALID, j] != 0.0:
-            du_r = ur - warm[WARM_UR, j]
-            du_z = uz - warm[WARM_UZ, j]
-            br = warm[WARM_BR, j] - (warm[WARM_X00, j] * du_r + warm[WARM_X01, j] * du_z)
-            bz = warm[WARM_BZ, j] - (warm[WARM_X10, j] * du_r + warm[WARM_X11, j] * du_z)
-            # the common case judged here, with no call: the prediction settled, or one short step from it
-            # (settle_ball's calls and their 40-number returns cost a third of the evaluation)
-            st = ball_state(ur, uz, br, bz, p, w_i, w_o, eps)
-            verdict, db_r, db_z, exact = _judge(st, p[INNER_RADIUS] + p[OUTER_RADIUS] + abs(ur) + abs(uz),
-                                                linearise)
+        # the summaries' room: the tail of the scratch (a scratch of N_WARM rows only predicts ball by ball)
+        predicted = warm.shape[0] >= warm_rows(n)
+        out = warm.reshape(warm.size)[N_WARM * n:]
+    for j0 in range(0, n, CHUNK):
+        m = min(CHUNK, n - j0)
+        cold = False
+        if warm is not None and predicted:
+            # a chunk with no warm start at all (a case's first evaluation) starts from the cold guesses
+            cold = True
+            for i in range(m):
+                if warm[WARM_VALID, j0 + i] != 0.0:
+                    cold = False
+            _predicted_chunk(q, table, speed_table, omega, eps, warm, out, j0, m, linearise, cold)
+        for i in range(m):
+            j = j0 + i
+            ur, uz = _inner_centre(q, table, j)
+            p, w_i, w_o = _ball_constants(speed_table, j, omega)
             iterations = 0
             settled = True
-            # both contacts closed at a settled (or nearly settled) centre: the ball's one equilibrium (its
-            # potential is convex where it touches a race), so no need to ask start_position whether the
-            # rings leave it room to be free
-            if verdict == STEP or not (st[34] > 0.0 and st[35] > 0.0):
-                # a step to take or a contact open: the whole settle
+            resettle = True  # a ball without a summary to take, or whose summary will not do: the whole settle
+            start = False  # (br, bz) is a start for the settle: the prediction
+            br = bz = db_r = db_z = 0.0
+            exact = True
+            sm = _NO_SUMMARY
+            if cold:
+                # settled or linearised at the cold guess, or free there: what settle_ball would return (a ball
+                # that needs a step is settled from the guess by it)
+                sm, br, bz, db_r, db_z, exact, verdict = _read_summary(out, i)
+                resettle = verdict == STEP
+                if out[S_LOADED * CHUNK + i] == 0.0:
+                    # free (on the outer race, clear of the inner): it carries nothing to the ring, and is not a
+                    # warm start (iterations -1); its state is the one at the guess
+                    resettle = False
+                    iterations = -1
+                    db_r = db_z = 0.0
+                    exact = True
+            elif warm is not None and warm[WARM_VALID, j] != 0.0:
+                start = True
+                if predicted:
+                    sm, br, bz, db_r, db_z, exact, verdict = _read_summary(out, i)
+                    # both contacts closed at a settled or nearly settled centre: the ball's one equilibrium (its
+                    # potential is convex where it touches a race); a step to take or a contact open: settle
+                    resettle = verdict == STEP or not (sm[S_DI] > 0.0 and sm[S_DO] > 0.0)
+                else:
+                    br, bz = _prediction(warm, j, ur, uz)
+            if resettle:
                 st, br, bz, iterations, settled, db_r, db_z, exact = settle_ball(ur, uz, p, w_i, w_o, eps, br, bz,
-                                                                                 True, linearise)
-        else:
-            st, br, bz, iterations, settled, db_r, db_z, exact = settle_ball(ur, uz, p, w_i, w_o, eps, 0.0, 0.0,
-                                                                             False, linearise)
-        if not exact:
-            flags |= 8
-        x00, x01, x10, x11 = sensitivity(st)
-        if warm is not None:
-            warm[WARM_BR, j] = br + db_r
-            warm[WARM_BZ, j] = bz + db_z
-            warm[WARM_UR, j] = ur
-            warm[WARM_UZ, j] = uz
-            warm[WARM_X00, j] = x00
-            warm[WARM_X01, j] = x01
-            warm[WARM_X10, j] = x10
-            warm[WARM_X11, j] = x11
-            warm[WARM_VALID, j] = 1.0 if settled and iterations >= 0 else 0.0
-        Qi = st[25]
-        si = st[28]
-        loaded = st[34] > 0.0
-        n_loaded += loaded
-        if not settled:
-            flags |= 4
-        if loaded and si < 0.0:
-            flags |= 1
-        if st[34] + st[35] > table[12, j]:
-            flags |= 2
-        total += Qi
-        if ball_load is not None:
-            ball_load[j] = Qi
-            contact_angle[j] = atan2(si, st[27])
-            if ball_load.shape[0] >= 2 * n:  # a record with room for them: the outer contacts too
-                ball_load[n + j] = st[26]
-                contact_angle[n + j] = atan2(st[30], st[29])
-        if states is not None:
-            states[j, STATE_INNER_LOAD] = Qi
-            states[j, STATE_OUTER_LOAD] = st[26]
-            states[j, STATE_INNER_ANGLE] = atan2(si, st[27])
-            states[j, STATE_OUTER_ANGLE] = atan2(st[30], st[29])
-            states[j, STATE_CENTRIFUGAL] = st[31]
-            states[j, STATE_GYROSCOPIC] = st[32]
-            states[j, STATE_ORBITAL_SPEED] = st[33]
-            states[j, STATE_ITERATIONS] = iterations
-            # the equilibrium residual relative to the ball's largest force (0 for a free ball: not solved,
-            # it carries nothing to the ring)
-            states[j, STATE_RESIDUAL] = 0.0 if iterations < 0 else (
-                max(abs(st[0]), abs(st[1])) / max(st[25] + st[26] + abs(st[31]), 1e-300))
-        if not Qi > 0.0 and eps == 0.0:
-            continue
-        # back to the bearing's frame: the axial components take the row's sign; a linearised ball's
-        # force to first order at B + dB
-        Fr = st[10] + (st[16] * db_r + st[17] * db_z)
-        Fz = sgn * (st[11] + (st[18] * db_r + st[19] * db_z))
-        m = R * Fz - z * Fr + sgn * (st[20] + (st[23] * db_r + st[24] * db_z))
-        f0 += Fr * c
-        f1 += Fr * s
-        f2 += Fz
-        f3 += m * s
-        f4 -= m * c
-        if K is not None:
-            k00, k01, k10, k11, m0, m1 = condensed(st, x00, x01, x10, x11)
-            k01 *= sgn
-            k10 *= sgn
-            m0 *= sgn
-            # columns of J: a = d(ur)/dq, b = d(uz)/dq (bearing frame); the sums stay in registers
-            acc0 = _add_column(acc0, c, s, z, R, k00, k01, k10, k11, m0, m1, c, 0.0)
-            acc1 = _add_column(acc1, c, s, z, R, k00, k01, k10, k11, m0, m1, s, 0.0)
-            acc2 = _add_column(acc2, c, s, z, R, k00, k01, k10, k11, m0, m1, 0.0, 1.0)
-            acc3 = _add_column(acc3, c, s, z, R, k00, k01, k10, k11, m0, m1, -z * s, R * s)
-            acc4 = _add_column(acc4, c, s, z, R, k00, k01, k10, k11, m0, m1, z * c, -R * c)
+                                                                                 start, linearise)
+                sm = _summary(st, db_r, db_z)
+            _, _, Qi, Qo, ci, si, co, so, Fc, Mg, wm, d_i, d_o = sm[:13]
+            if not exact:
+                flags |= 8
+            if warm is not None:
+                warm[WARM_BR, j] = br + db_r
+                warm[WARM_BZ, j] = bz + db_z
+                warm[WARM_UR, j] = ur
+                warm[WARM_UZ, j] = uz
+                warm[WARM_X00, j] = sm[S_X00]
+                warm[WARM_X01, j] = sm[S_X01]
+                warm[WARM_X10, j] = sm[S_X10]
+                warm[WARM_X11, j] = sm[S_X11]
+                warm[WARM_VALID, j] = 1.0 if settled and iterations >= 0 else 0.0
+            loaded = d_i > 0.0
+            n_loaded += loaded
+            if not settled:
+                flags |= 4
+            if loaded and si < 0.0:
+                flags |= 1
+            if d_i + d_o > table[12, j]:
+                flags |= 2
+            total += Qi
+            if ball_load is not None:
+                ball_load[j] = Qi
+                contact_angle[j] = atan2(si, ci)
+                if ball_load.shape[0] >= 2 * n:  # a record with room for them: the outer contacts too
+                    ball_load[n + j] = Qo
+                    contact_angle[n + j] = atan2(so, co)
+            if states is not None:
+                states[j, STATE_INNER_LOAD] = Qi
+                states[j, STATE_OUTER_LOAD] = Qo
+                states[j, STATE_INNER_ANGLE] = atan2(si, ci)
+                states[j, STATE_OUTER_ANGLE] = atan2(so, co)
+                states[j, STATE_CENTRIFUGAL] = Fc
+                states[j, STATE_GYROSCOPIC] = Mg
+                states[j, STATE_ORBITAL_SPEED] = wm
+                states[j, STATE_ITERATIONS] = iterations
+                # the equilibrium residual relative to the ball's largest force (0 for a free ball: not solved,
+                # it carries nothing to the ring)
+                states[j, STATE_RESIDUAL] = 0.0 if iterations < 0 else (
+                    max(abs(sm[S_GR]), abs(sm[S_GZ])) / max(Qi + Qo + abs(Fc), 1e-300))
+            if not Qi > 0.0 and eps == 0.0:
+                continue
+            # back to the bearing's frame: the axial components take the row's sign
+            c = table[0, j]
+            s = table[1, j]
+            z = table[2, j]
+            R = table[3, j]
+            sgn = table[10, j]
+            Fr = sm[S_FR]
+            Fz = sgn * sm[S_FZ]
+            mo = R * Fz - z * Fr + sgn * sm[S_M]
+            f0 += Fr * c
+            f1 += Fr * s
+            f2 += Fz
+            f3 += mo * s
+            f4 -= mo * c
+            if K is not None:
+                k00, k01, k10, k11, m0, m1 = sm[S_K00], sm[S_K01], sm[S_K10], sm[S_K11], sm[S_M0], sm[S_M1]
+                k01 *= sgn
+                k10 *= sgn
+                m0 *= sgn
+                # columns of J: a = d(ur)/dq, b = d(uz)/dq (bearing frame); the sums stay in registers
+                acc0 = _add_column(acc0, c, s, z, R, k00, k01, k10, k11, m0, m1, c, 0.0)
+                acc1 = _add_column(acc1, c, s, z, R, k00, k01, k10, k11, m0, m1, s, 0.0)
+                acc2 = _add_column(acc2, c, s, z, R, k00, k01, k10, k11, m0, m1, 0.0, 1.0)
+                acc3 = _add_column(acc3, c, s, z, R, k00, k01, k10, k11, m0, m1, -z * s, R * s)
+                acc4 = _add_column(acc4, c, s, z, R, k00, k01, k10, k11, m0, m1, z * c, -R * c)
     if K is not None:
         for i in range(5):
             K[i, 0] = acc0[i]

@@ -12,7 +12,7 @@ from numba import njit, prange, types
 from numba.extending import intrinsic, overload
 
 from .config import CACHE, ERROR_MODEL
-from .high_speed import N_WARM, WARM_VALID
+from .high_speed import WARM_VALID, warm_rows
 from .kernel import ball_loop, slice_count
 from .linalg import stiffness_solve
 from .roots import cube_root
@@ -41,7 +41,7 @@ def stop_requested(stop):
 
 
 def warm_scratch(speed_table):
-    """A block's scratch for the high-speed balls' warm starts (high_speed.N_WARM, n_balls), or None for a
+    """A block's scratch for the high-speed balls' warm starts (high_speed.warm_rows(n_balls), n_balls), or None for a
     quasi-static ball set (``speed_table`` None). Chosen while typing."""
 
 
@@ -49,7 +49,7 @@ def warm_scratch(speed_table):
 def _warm_scratch(speed_table):
     if isinstance(speed_table, types.NoneType):
         return lambda speed_table: None
-    return lambda speed_table: np.zeros((N_WARM, speed_table.shape[1]))
+    return lambda speed_table: np.zeros((warm_rows(speed_table.shape[1]), speed_table.shape[1]))
 
 
 def forget_warm(warm):

@@ -93,7 +93,7 @@ def test_a_warm_started_ball_settles_where_a_cold_one_does():
     table, speed_table = SPINDLE.ball_table(), SPINDLE.speed_table
     n = SPINDLE.n_balls
     omega = 18000.0 * math.pi / 30.0
-    warm = np.zeros((hs.N_WARM, n))
+    warm = np.zeros((hs.warm_rows(n), n))
     states = np.empty((n, hs.N_STATE))
     q_last = _q(rng)
     hs.spinning_balls(q_last, table, speed_table, omega, 0.0, np.empty(5), None, None, None, None, warm)
@@ -120,7 +120,7 @@ def test_inside_a_solve_a_ball_is_linearised_to_second_order_and_flagged_until_s
     rng = np.random.default_rng(5)
     table, speed_table = SPINDLE.ball_table(), SPINDLE.speed_table
     omega = 18000.0 * math.pi / 30.0
-    warm = np.zeros((hs.N_WARM, SPINDLE.n_balls))
+    warm = np.zeros((hs.warm_rows(SPINDLE.n_balls), SPINDLE.n_balls))
     q_last = _q(rng)
     hs.spinning_balls(q_last, table, speed_table, omega, 0.0, np.empty(5), None, None, None, None, warm)
     errors = []
