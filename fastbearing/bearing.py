@@ -472,10 +472,10 @@ class Bearing:
         slices = self.slice_table(cage_angle) if self.roller_rows else None
         if speed is None:
             return (self.ball_table(cage_angle), self.ball_exponents, None, slices, None, 0.0, None)
-        from .high_speed import warm_rows
+        from .high_speed import new_warm
 
         return (self.ball_table(cage_angle), self.ball_exponents, None, slices, self.speed_table,
-                rpm_to_rad_s(speed), np.zeros((warm_rows(self.n_balls), self.n_balls)))
+                rpm_to_rad_s(speed), new_warm(self.n_balls))
 
     @cached_property
     def speed_table(self) -> np.ndarray:

@@ -243,7 +243,7 @@ def _spinning_contacts(bearing: Bearing, q, speed) -> BallContacts:
     states = np.empty((n, hs.N_STATE))
     Q = np.empty(n)
     alpha = np.empty(n)
-    hs.spinning_balls(q, table, speed_table, omega, 0.0, np.empty(5), None, Q, alpha, states, None)
+    hs.spinning_balls(q, table, speed_table, omega, 0.0, np.empty(5), None, Q, alpha, states, hs.new_warm(n))
     Qo = states[:, hs.STATE_OUTER_LOAD]
     geometry = bearing.geometry
     # each contact's deflection from its own load and Hertz constant

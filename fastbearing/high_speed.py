@@ -92,6 +92,11 @@ def warm_rows(n_balls):
     return N_WARM + (N_SUMMARY * CHUNK + n_balls - 1) // max(n_balls, 1)
 
 
+def new_warm(n_balls):
+    """An empty warm scratch for ``n_balls`` balls (no warm starts: every ball starts from its cold guess)."""
+    return np.zeros((warm_rows(n_balls), n_balls))
+
+
 @njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
 def _race(L, r0, k, smoothing_eps):
     """A race contact from the centre distance L (mm): (delta, Q, dQ/dL) with Q = k delta^1.5; a positive
@@ -483,10 +488,6 @@ def _read_summary(out, i):
             out[S_EXACT * CHUNK + i] != 0.0, out[S_VERDICT * CHUNK + i])
 
 
-#: A placeholder summary (its type), for a ball the loop settles.
-_NO_SUMMARY = (0.0,) * 26
-
-
 @njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
 def _inner_centre(q, table, j):
     """The inner groove centre u = (ur, uz) of ball j (mm from its outer groove centre, mirrored frame) at
@@ -508,6 +509,16 @@ def _ball_constants(speed_table, j, omega):
          speed_table[10, j], speed_table[11, j], speed_table[12, j], speed_table[13, j], speed_table[14, j])
     outer = speed_table[OUTER_ROTATES, j]
     return p, omega * (1.0 - outer), omega * outer
+
+
+@njit(inline="always")
+def _all_cold(warm, j0, m):
+    """Whether no ball of j0 .. j0+m-1 has a warm start (a function: its result is typed bool, never a
+    literal, so that _predicted_chunk compiles once)."""
+    for j in range(j0, j0 + m):
+        if warm[WARM_VALID, j] != 0.0:
+            return False
+    return True
 
 
 @njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
@@ -554,6 +565,49 @@ def _predicted_chunk(q, table, speed_table, omega, eps, warm, out, j0, m, linear
         out[S_DBZ * CHUNK + i] = db_z
 
 
+#: The ring sums' start: f and the five columns of Kb.
+_NO_SUMS = ((0.0,) * 5,) * 6
+
+
+@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def _ring_add(sums, sm, table, j, eps):
+    """``sums`` (f, then Kb's columns) plus ball j's share from its :func:`_summary`, in the bearing's
+    frame (the axial components take the row's sign). An unloaded ball adds nothing (selects, not a
+    branch: the loop over a chunk vectorises, and an unloaded ball's summary may hold inf or NaN)."""
+    c = table[0, j]
+    s = table[1, j]
+    z = table[2, j]
+    R = table[3, j]
+    sgn = table[10, j]
+    on = sm[S_QI] > 0.0 or eps != 0.0
+    Fr = sm[S_FR] if on else 0.0
+    Fz = sgn * sm[S_FZ] if on else 0.0
+    mo = R * Fz - z * Fr + (sgn * sm[S_M] if on else 0.0)
+    fs, acc0, acc1, acc2, acc3, acc4 = sums
+    fs = (fs[0] + Fr * c, fs[1] + Fr * s, fs[2] + Fz, fs[3] + mo * s, fs[4] - mo * c)
+    k00 = sm[S_K00] if on else 0.0
+    k01 = sgn * sm[S_K01] if on else 0.0
+    k10 = sgn * sm[S_K10] if on else 0.0
+    k11 = sm[S_K11] if on else 0.0
+    m0 = sgn * sm[S_M0] if on else 0.0
+    m1 = sm[S_M1] if on else 0.0
+    # columns of J: a = d(ur)/dq, b = d(uz)/dq (bearing frame); the sums stay in registers
+    return (fs, _add_column(acc0, c, s, z, R, k00, k01, k10, k11, m0, m1, c, 0.0),
+            _add_column(acc1, c, s, z, R, k00, k01, k10, k11, m0, m1, s, 0.0),
+            _add_column(acc2, c, s, z, R, k00, k01, k10, k11, m0, m1, 0.0, 1.0),
+            _add_column(acc3, c, s, z, R, k00, k01, k10, k11, m0, m1, -z * s, R * s),
+            _add_column(acc4, c, s, z, R, k00, k01, k10, k11, m0, m1, z * c, -R * c))
+
+
+@njit(fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def _ring_sums(sums, table, out, j0, m, eps):
+    """``sums`` plus the shares of balls j0 .. j0+m-1 from their summaries in the chunk ``out``: loads and
+    sums only, so that it vectorises."""
+    for i in range(m):
+        sums = _ring_add(sums, _read_summary(out, i)[0], table, j0 + i, eps)
+    return sums
+
+
 @njit(fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
 def spinning_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact_angle, states, warm):
     """Write f (5) and, unless ``K`` is None, Kb (5x5, not symmetric) of the ball rows at shaft speed.
@@ -567,8 +621,9 @@ def spinning_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact_a
     in a record of 2 n_balls Q_o and alpha_o after them (a load map's life at speed); ``states``
     (n_balls, N_STATE) or None records the whole ball.
 
-    ``warm`` (:func:`warm_rows` (n_balls), n_balls) or None: each ball starts from its last settled centre
-    moved by the first-order prediction (rows WARM_*) and leaves its new one there. CHUNK balls at a time,
+    ``warm`` (:func:`warm_rows` (n_balls), n_balls; :func:`new_warm`): each ball starts from its last settled
+    centre moved by the first-order prediction (rows WARM_*; none in a fresh scratch: the cold guess) and
+    leaves its new one there (a scratch too small returns NaN with bit 4). CHUNK balls at a time,
     one vectorised pass (:func:`_predicted_chunk`) takes every ball's state at its prediction (at its cold
     guess in a chunk with no warm start at all) into the scratch's tail; the loop then takes each summary
     that will do and settles the others one by one (:func:`settle_ball`). Inside a solve (``warm`` row
@@ -579,43 +634,37 @@ def spinning_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact_a
     first-order close, evaluate again for the model's).
     """
     n = table.shape[1]
-    f0 = f1 = f2 = f3 = f4 = 0.0
-    acc0 = acc1 = acc2 = acc3 = acc4 = (0.0, 0.0, 0.0, 0.0, 0.0)  # the columns of Kb
+    sums = _NO_SUMS
     total = 0.0
     n_loaded = 0
     flags = 0
-    linearise = False
-    predicted = False
-    if warm is not None and n > 0:
-        linearise = states is None and warm[WARM_LINEARISE, 0] != 0.0
-        # the summaries' room: the tail of the scratch (a scratch of N_WARM rows only predicts ball by ball)
-        predicted = warm.shape[0] >= warm_rows(n)
-        out = warm.reshape(warm.size)[N_WARM * n:]
+    if n == 0:
+        f[:] = 0.0
+        if K is not None:
+            K[:, :] = 0.0
+        return 0.0, 0, 0
+    if warm.shape[0] < warm_rows(n):  # no room for the summaries: a caller's error, reported as not settled
+        f[:] = math.nan
+        if K is not None:
+            K[:, :] = math.nan
+        return math.nan, 0, 4
+    linearise = states is None and warm[WARM_LINEARISE, 0] != 0.0
+    out = warm.reshape(warm.size)[N_WARM * n:]  # the scratch's tail, flat
     for j0 in range(0, n, CHUNK):
         m = min(CHUNK, n - j0)
-        cold = False
-        if warm is not None and predicted:
-            # a chunk with no warm start at all (a case's first evaluation) starts from the cold guesses
-            cold = True
-            for i in range(m):
-                if warm[WARM_VALID, j0 + i] != 0.0:
-                    cold = False
-            _predicted_chunk(q, table, speed_table, omega, eps, warm, out, j0, m, linearise, cold)
+        # a chunk with no warm start at all (a case's first evaluation) starts from the cold guesses
+        cold = _all_cold(warm, j0, m)
+        _predicted_chunk(q, table, speed_table, omega, eps, warm, out, j0, m, linearise, cold)
         for i in range(m):
             j = j0 + i
             ur, uz = _inner_centre(q, table, j)
-            p, w_i, w_o = _ball_constants(speed_table, j, omega)
+            sm, br, bz, db_r, db_z, exact, verdict = _read_summary(out, i)
             iterations = 0
             settled = True
-            resettle = True  # a ball without a summary to take, or whose summary will not do: the whole settle
-            start = False  # (br, bz) is a start for the settle: the prediction
-            br = bz = db_r = db_z = 0.0
-            exact = True
-            sm = _NO_SUMMARY
+            start = False  # (br, bz) is a start for a settle: the prediction
             if cold:
                 # settled or linearised at the cold guess, or free there: what settle_ball would return (a ball
                 # that needs a step is settled from the guess by it)
-                sm, br, bz, db_r, db_z, exact, verdict = _read_summary(out, i)
                 resettle = verdict == STEP
                 if out[S_LOADED * CHUNK + i] == 0.0:
                     # free (on the outer race, clear of the inner): it carries nothing to the ring, and is not a
@@ -624,32 +673,31 @@ def spinning_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact_a
                     iterations = -1
                     db_r = db_z = 0.0
                     exact = True
-            elif warm is not None and warm[WARM_VALID, j] != 0.0:
+            elif warm[WARM_VALID, j] != 0.0:
                 start = True
-                if predicted:
-                    sm, br, bz, db_r, db_z, exact, verdict = _read_summary(out, i)
-                    # both contacts closed at a settled or nearly settled centre: the ball's one equilibrium (its
-                    # potential is convex where it touches a race); a step to take or a contact open: settle
-                    resettle = verdict == STEP or not (sm[S_DI] > 0.0 and sm[S_DO] > 0.0)
-                else:
-                    br, bz = _prediction(warm, j, ur, uz)
+                # both contacts closed at a settled or nearly settled centre: the ball's one equilibrium (its
+                # potential is convex where it touches a race); a step to take or a contact open: settle
+                resettle = verdict == STEP or not (sm[S_DI] > 0.0 and sm[S_DO] > 0.0)
+            else:
+                resettle = True  # no warm start (free at the last evaluation): from the cold guess
             if resettle:
+                p, w_i, w_o = _ball_constants(speed_table, j, omega)
                 st, br, bz, iterations, settled, db_r, db_z, exact = settle_ball(ur, uz, p, w_i, w_o, eps, br, bz,
                                                                                  start, linearise)
                 sm = _summary(st, db_r, db_z)
+                _write_summary(out, i, sm)  # for the ring sums
             _, _, Qi, Qo, ci, si, co, so, Fc, Mg, wm, d_i, d_o = sm[:13]
             if not exact:
                 flags |= 8
-            if warm is not None:
-                warm[WARM_BR, j] = br + db_r
-                warm[WARM_BZ, j] = bz + db_z
-                warm[WARM_UR, j] = ur
-                warm[WARM_UZ, j] = uz
-                warm[WARM_X00, j] = sm[S_X00]
-                warm[WARM_X01, j] = sm[S_X01]
-                warm[WARM_X10, j] = sm[S_X10]
-                warm[WARM_X11, j] = sm[S_X11]
-                warm[WARM_VALID, j] = 1.0 if settled and iterations >= 0 else 0.0
+            warm[WARM_BR, j] = br + db_r
+            warm[WARM_BZ, j] = bz + db_z
+            warm[WARM_UR, j] = ur
+            warm[WARM_UZ, j] = uz
+            warm[WARM_X00, j] = sm[S_X00]
+            warm[WARM_X01, j] = sm[S_X01]
+            warm[WARM_X10, j] = sm[S_X10]
+            warm[WARM_X11, j] = sm[S_X11]
+            warm[WARM_VALID, j] = 1.0 if settled and iterations >= 0 else 0.0
             loaded = d_i > 0.0
             n_loaded += loaded
             if not settled:
@@ -678,33 +726,8 @@ def spinning_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact_a
                 # it carries nothing to the ring)
                 states[j, STATE_RESIDUAL] = 0.0 if iterations < 0 else (
                     max(abs(sm[S_GR]), abs(sm[S_GZ])) / max(Qi + Qo + abs(Fc), 1e-300))
-            if not Qi > 0.0 and eps == 0.0:
-                continue
-            # back to the bearing's frame: the axial components take the row's sign
-            c = table[0, j]
-            s = table[1, j]
-            z = table[2, j]
-            R = table[3, j]
-            sgn = table[10, j]
-            Fr = sm[S_FR]
-            Fz = sgn * sm[S_FZ]
-            mo = R * Fz - z * Fr + sgn * sm[S_M]
-            f0 += Fr * c
-            f1 += Fr * s
-            f2 += Fz
-            f3 += mo * s
-            f4 -= mo * c
-            if K is not None:
-                k00, k01, k10, k11, m0, m1 = sm[S_K00], sm[S_K01], sm[S_K10], sm[S_K11], sm[S_M0], sm[S_M1]
-                k01 *= sgn
-                k10 *= sgn
-                m0 *= sgn
-                # columns of J: a = d(ur)/dq, b = d(uz)/dq (bearing frame); the sums stay in registers
-                acc0 = _add_column(acc0, c, s, z, R, k00, k01, k10, k11, m0, m1, c, 0.0)
-                acc1 = _add_column(acc1, c, s, z, R, k00, k01, k10, k11, m0, m1, s, 0.0)
-                acc2 = _add_column(acc2, c, s, z, R, k00, k01, k10, k11, m0, m1, 0.0, 1.0)
-                acc3 = _add_column(acc3, c, s, z, R, k00, k01, k10, k11, m0, m1, -z * s, R * s)
-                acc4 = _add_column(acc4, c, s, z, R, k00, k01, k10, k11, m0, m1, z * c, -R * c)
+        sums = _ring_sums(sums, table, out, j0, m, eps)
+    fs, acc0, acc1, acc2, acc3, acc4 = sums
     if K is not None:
         for i in range(5):
             K[i, 0] = acc0[i]
@@ -712,9 +735,6 @@ def spinning_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact_a
             K[i, 2] = acc2[i]
             K[i, 3] = acc3[i]
             K[i, 4] = acc4[i]
-    f[0] = f0
-    f[1] = f1
-    f[2] = f2
-    f[3] = f3
-    f[4] = f4
+    for i in range(5):
+        f[i] = fs[i]
     return total, n_loaded, flags

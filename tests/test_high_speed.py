@@ -41,7 +41,8 @@ def test_the_high_speed_element_at_zero_speed_is_the_quasi_static_ball(name):
             q = _q(rng)
             f0, K0 = fb.stiffness(b, q)
             f, K = np.empty(5), np.zeros((5, 5))
-            hs.spinning_balls(q, b.ball_table(), b.speed_table, 0.0, 0.0, f, K, None, None, None, None)
+            hs.spinning_balls(q, b.ball_table(), b.speed_table, 0.0, 0.0, f, K, None, None, None,
+                              hs.new_warm(b.n_balls))
             assert np.abs(f - f0).max() <= 1e-10 * np.abs(f0).max(), (name, arrangement)
             assert np.abs(K - K0).max() <= 1e-10 * np.abs(K0).max(), (name, arrangement)
 
@@ -93,14 +94,14 @@ def test_a_warm_started_ball_settles_where_a_cold_one_does():
     table, speed_table = SPINDLE.ball_table(), SPINDLE.speed_table
     n = SPINDLE.n_balls
     omega = 18000.0 * math.pi / 30.0
-    warm = np.zeros((hs.warm_rows(n), n))
+    warm = hs.new_warm(n)
     states = np.empty((n, hs.N_STATE))
     q_last = _q(rng)
     hs.spinning_balls(q_last, table, speed_table, omega, 0.0, np.empty(5), None, None, None, None, warm)
     for step in (1e-9, 1e-6, 1e-4, 3e-3):
         q = q_last + step * rng.standard_normal(5) * np.array([1, 1, 1, 0.02, 0.02])
         f_cold, K_cold = np.empty(5), np.empty((5, 5))
-        hs.spinning_balls(q, table, speed_table, omega, 0.0, f_cold, K_cold, None, None, states, None)
+        hs.spinning_balls(q, table, speed_table, omega, 0.0, f_cold, K_cold, None, None, states, hs.new_warm(n))
         cold_iterations = states[:, hs.STATE_ITERATIONS].sum()
         f, K = np.empty(5), np.empty((5, 5))
         hs.spinning_balls(q, table, speed_table, omega, 0.0, f, K, None, None, states, warm)
@@ -120,14 +121,15 @@ def test_inside_a_solve_a_ball_is_linearised_to_second_order_and_flagged_until_s
     rng = np.random.default_rng(5)
     table, speed_table = SPINDLE.ball_table(), SPINDLE.speed_table
     omega = 18000.0 * math.pi / 30.0
-    warm = np.zeros((hs.warm_rows(SPINDLE.n_balls), SPINDLE.n_balls))
+    warm = hs.new_warm(SPINDLE.n_balls)
     q_last = _q(rng)
     hs.spinning_balls(q_last, table, speed_table, omega, 0.0, np.empty(5), None, None, None, None, warm)
     errors = []
     for step in (3e-3, 1e-4, 1e-6):
         q = q_last + step * rng.standard_normal(5) * np.array([1, 1, 1, 0.02, 0.02])
         f_exact, K_exact = np.empty(5), np.empty((5, 5))
-        hs.spinning_balls(q, table, speed_table, omega, 0.0, f_exact, K_exact, None, None, None, None)
+        hs.spinning_balls(q, table, speed_table, omega, 0.0, f_exact, K_exact, None, None, None,
+                          hs.new_warm(SPINDLE.n_balls))
         scale = np.abs(f_exact).max()
         lin = warm.copy()
         lin[hs.WARM_LINEARISE, 0] = 1.0
@@ -146,7 +148,8 @@ def test_inside_a_solve_a_ball_is_linearised_to_second_order_and_flagged_until_s
         assert np.abs(K - K_exact).max() <= 1e-9 * np.abs(K_exact).max(), step
         # the same start without the solver's flag settles exactly (and is never flagged)
         f2 = np.empty(5)
-        assert not hs.spinning_balls(q, table, speed_table, omega, 0.0, f2, None, None, None, None, warm.copy())[2] & 8
+        assert not hs.spinning_balls(q, table, speed_table, omega, 0.0, f2, None, None, None, None,
+                                     warm.copy())[2] & 8
         assert np.abs(f2 - f_exact).max() <= 1e-12 * scale
         warm = lin
         warm[hs.WARM_LINEARISE, 0] = 0.0
