@@ -328,6 +328,23 @@ def _judge(st, reach, linearise):
     return STEP, step_r, step_z, False
 
 
+@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def _step_length(st, step_r, step_z, reach, ri):
+    """The fraction t of the Newton step s (B - t s is the next iterate) a ball takes from state ``st``:
+    at most halving either deflection (Hertz contacts soften to nothing as they unload), but swinging
+    the ball round its contacts freely (the soft tangential direction)."""
+    shrink_o = st[29] * step_r + st[30] * step_z  # delta_o falls by n_o . step
+    shrink_i = -(st[27] * step_r + st[28] * step_z)  # delta_i falls by -n_i . step
+    t = 1.0
+    if shrink_o > 0.5 * st[35] + 1e-15 * reach:
+        t = min(t, (0.5 * st[35] + 1e-15 * reach) / shrink_o)
+    # ... except when the inner contact has all but opened (1e-6 of its reach): then the ball may leave it
+    # (its equilibrium on the outer race alone lies there), and Newton re-enters if it must
+    if shrink_i > 0.5 * st[34] + 1e-15 * reach and st[34] > 1e-6 * ri:
+        t = min(t, (0.5 * st[34] + 1e-15 * reach) / shrink_i)
+    return t
+
+
 @njit(fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
 def _newton(ur, uz, br, bz, p, w_i, w_o, smoothing_eps, max_iterations, linearise):
     """Newton on one ball's equilibrium g(B) = 0 from B = (br, bz); returns (state, br, bz, iterations,
@@ -348,17 +365,7 @@ def _newton(ur, uz, br, bz, p, w_i, w_o, smoothing_eps, max_iterations, linearis
             return st, br, bz, it, True, step_r, step_z, exact
         if it == max_iterations:
             return st, br, bz, it, False, 0.0, 0.0, False
-        shrink_o = st[29] * step_r + st[30] * step_z  # delta_o falls by n_o . step
-        shrink_i = -(st[27] * step_r + st[28] * step_z)  # delta_i falls by -n_i . step
-        # a step may at most halve either deflection (Hertz contacts soften to nothing as they unload),
-        # but may swing the ball round its contacts freely (the soft tangential direction)
-        t = 1.0
-        if shrink_o > 0.5 * st[35] + 1e-15 * reach:
-            t = min(t, (0.5 * st[35] + 1e-15 * reach) / shrink_o)
-        # ... except when the inner contact has all but opened (1e-6 of its reach): then the ball may leave
-        # it (its equilibrium on the outer race alone lies there), and Newton re-enters if it must
-        if shrink_i > 0.5 * st[34] + 1e-15 * reach and st[34] > 1e-6 * ri:
-            t = min(t, (0.5 * st[34] + 1e-15 * reach) / shrink_i)
+        t = _step_length(st, step_r, step_z, reach, ri)
         br -= step_r * t
         bz -= step_z * t
         it += 1
@@ -475,8 +482,9 @@ def _write_summary(out, i, sm):
 
 @njit(inline="always")
 def _read_summary(out, i):
-    """Ball i of a chunk: its :func:`_summary`, the centre B taken (br, bz), the linearised step (db_r,
-    db_z), whether that is exact, and the verdict of :func:`_judge`."""
+    """Ball i of a chunk: its :func:`_summary`, the centre B taken (br, bz; the next Newton iterate where
+    the verdict of :func:`_judge` is STEP), the linearised step (db_r, db_z), whether that is exact, and
+    the verdict."""
     sm = (out[0 * CHUNK + i], out[1 * CHUNK + i], out[2 * CHUNK + i], out[3 * CHUNK + i],
           out[4 * CHUNK + i], out[5 * CHUNK + i], out[6 * CHUNK + i], out[7 * CHUNK + i],
           out[8 * CHUNK + i], out[9 * CHUNK + i], out[10 * CHUNK + i], out[11 * CHUNK + i],
@@ -534,7 +542,8 @@ def _prediction(warm, j, ur, uz):
 def _predicted_chunk(q, table, speed_table, omega, eps, warm, out, j0, m, linearise, cold):
     """Balls j0 .. j0+m-1 at their first-order predictions from ``warm`` (``cold``: at their cold guesses,
     :func:`start_position`, S_LOADED saying whether it touches the inner race): state, judgement
-    (:func:`_judge`) and :func:`_summary` into ``out`` (flat, field k of ball j0+i at k*CHUNK + i).
+    (:func:`_judge`; where it says STEP, the step's end as the centre) and :func:`_summary` into ``out``
+    (flat, field k of ball j0+i at k*CHUNK + i).
     Branch-free passes over the balls, so that they vectorise; a ball without a warm start in a warm
     chunk gets a meaningless summary, which the caller does not read."""
     if cold:
@@ -554,8 +563,13 @@ def _predicted_chunk(q, table, speed_table, omega, eps, warm, out, j0, m, linear
             br = out[S_BR * CHUNK + i]
             bz = out[S_BZ * CHUNK + i]
         st = ball_state(ur, uz, br, bz, p, w_i, w_o, eps)
-        verdict, db_r, db_z, exact = _judge(st, p[INNER_RADIUS] + p[OUTER_RADIUS] + abs(ur) + abs(uz), linearise)
+        reach = p[INNER_RADIUS] + p[OUTER_RADIUS] + abs(ur) + abs(uz)
+        verdict, db_r, db_z, exact = _judge(st, reach, linearise)
         sm = _summary(st, db_r, db_z)
+        if verdict == STEP:  # a step to take: the caller settles the ball from its next iterate
+            t = _step_length(st, db_r, db_z, reach, p[INNER_RADIUS])
+            br -= db_r * t
+            bz -= db_z * t
         _write_summary(out, i, sm)
         out[S_BR * CHUNK + i] = br
         out[S_BZ * CHUNK + i] = bz
@@ -664,8 +678,9 @@ def spinning_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact_a
             start = False  # (br, bz) is a start for a settle: the prediction
             if cold:
                 # settled or linearised at the cold guess, or free there: what settle_ball would return (a ball
-                # that needs a step is settled from the guess by it)
+                # that needs a step is settled by it from the step's end, its next iterate)
                 resettle = verdict == STEP
+                start = resettle
                 if out[S_LOADED * CHUNK + i] == 0.0:
                     # free (on the outer race, clear of the inner): it carries nothing to the ring, and is not a
                     # warm start (iterations -1); its state is the one at the guess
