@@ -623,46 +623,15 @@ def _ring_sums(sums, table, out, j0, m, eps):
 
 
 @njit(fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
-def spinning_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact_angle, states, warm):
-    """Write f (5) and, unless ``K`` is None, Kb (5x5, not symmetric) of the ball rows at shaft speed.
-
-    ``table`` is the quasi-static ball table (bearing.ball_table), ``speed_table`` (N_SPEED_COLUMNS,
-    n_balls) the balls' high-speed constants, ``omega`` the shaft speed in rad/s, ``eps`` the solver's
-    smoothing (mm; 0: the exact contact law). Each ball's centre is settled; the ring gets its inner
-    contact's force (and the friction's moment) through the same J = [a; b] as the quasi-static ball,
-    and Kb += J^T (dF/du) J + w (dm/du) J per ball with w = (0, 0, 0, sin psi, -cos psi).
-    ``ball_load``/``contact_angle`` record Q_i (N) and alpha_i (rad, positive on the row's direction), and
-    in a record of 2 n_balls Q_o and alpha_o after them (a load map's life at speed); ``states``
-    (n_balls, N_STATE) or None records the whole ball.
-
-    ``warm`` (:func:`warm_rows` (n_balls), n_balls; :func:`new_warm`): each ball starts from its last settled
-    centre moved by the first-order prediction (rows WARM_*; none in a fresh scratch: the cold guess) and
-    leaves its new one there (a scratch too small returns NaN with bit 4). CHUNK balls at a time,
-    one vectorised pass (:func:`_predicted_chunk`) takes every ball's state at its prediction (at its cold
-    guess in a chunk with no warm start at all) into the scratch's tail; the loop then takes each summary
-    that will do and settles the others one by one (:func:`settle_ball`). Inside a solve (``warm`` row
-    WARM_LINEARISE set) and without ``states`` the balls are linearised (:func:`_judge`: one ball state each
-    where the prediction is good; a record is then taken at B, within LINEAR_RTOL of the model's when the
-    evaluation is not flagged 8). Returns (sum of Q_i in N, loaded balls, warning bits: 1 contact reversed,
-    2 beyond validity, 4 a ball not settled, 8 a ball linearised with a step beyond LINEAR_RTOL: f and Kb
-    first-order close, evaluate again for the model's).
-    """
+def _ball_pass(q, table, speed_table, omega, eps, ball_load, contact_angle, states, warm):
+    """:func:`spinning_balls`' work, Kb or not (one compiled loop for both): returns (the ring sums,
+    sum of Q_i in N, loaded balls, warning bits)."""
     n = table.shape[1]
     sums = _NO_SUMS
     total = 0.0
     n_loaded = 0
     flags = 0
-    if n == 0:
-        f[:] = 0.0
-        if K is not None:
-            K[:, :] = 0.0
-        return 0.0, 0, 0
-    if warm.shape[0] < warm_rows(n):  # no room for the summaries: a caller's error, reported as not settled
-        f[:] = math.nan
-        if K is not None:
-            K[:, :] = math.nan
-        return math.nan, 0, 4
-    linearise = states is None and warm[WARM_LINEARISE, 0] != 0.0
+    linearise = n > 0 and states is None and warm[WARM_LINEARISE, 0] != 0.0
     out = warm.reshape(warm.size)[N_WARM * n:]  # the scratch's tail, flat
     for j0 in range(0, n, CHUNK):
         m = min(CHUNK, n - j0)
@@ -742,6 +711,42 @@ def spinning_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact_a
                 states[j, STATE_RESIDUAL] = 0.0 if iterations < 0 else (
                     max(abs(sm[S_GR]), abs(sm[S_GZ])) / max(Qi + Qo + abs(Fc), 1e-300))
         sums = _ring_sums(sums, table, out, j0, m, eps)
+    return sums, total, n_loaded, flags
+
+
+@njit(fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def spinning_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact_angle, states, warm):
+    """Write f (5) and, unless ``K`` is None, Kb (5x5, not symmetric) of the ball rows at shaft speed.
+
+    ``table`` is the quasi-static ball table (bearing.ball_table), ``speed_table`` (N_SPEED_COLUMNS,
+    n_balls) the balls' high-speed constants, ``omega`` the shaft speed in rad/s, ``eps`` the solver's
+    smoothing (mm; 0: the exact contact law). Each ball's centre is settled; the ring gets its inner
+    contact's force (and the friction's moment) through the same J = [a; b] as the quasi-static ball,
+    and Kb += J^T (dF/du) J + w (dm/du) J per ball with w = (0, 0, 0, sin psi, -cos psi).
+    ``ball_load``/``contact_angle`` record Q_i (N) and alpha_i (rad, positive on the row's direction), and
+    in a record of 2 n_balls Q_o and alpha_o after them (a load map's life at speed); ``states``
+    (n_balls, N_STATE) or None records the whole ball.
+
+    ``warm`` (:func:`warm_rows` (n_balls), n_balls; :func:`new_warm`): each ball starts from its last settled
+    centre moved by the first-order prediction (rows WARM_*; none in a fresh scratch: the cold guess) and
+    leaves its new one there (a scratch too small returns NaN with bit 4). CHUNK balls at a time,
+    one vectorised pass (:func:`_predicted_chunk`) takes every ball's state at its prediction (at its cold
+    guess in a chunk with no warm start at all) into the scratch's tail; the loop then takes each summary
+    that will do and settles the others one by one (:func:`settle_ball`). Inside a solve (``warm`` row
+    WARM_LINEARISE set) and without ``states`` the balls are linearised (:func:`_judge`: one ball state each
+    where the prediction is good; a record is then taken at B, within LINEAR_RTOL of the model's when the
+    evaluation is not flagged 8). Returns (sum of Q_i in N, loaded balls, warning bits: 1 contact reversed,
+    2 beyond validity, 4 a ball not settled, 8 a ball linearised with a step beyond LINEAR_RTOL: f and Kb
+    first-order close, evaluate again for the model's).
+    """
+    n = table.shape[1]
+    if n > 0 and warm.shape[0] < warm_rows(n):  # no room for the summaries: a caller's error, reported as such
+        f[:] = math.nan
+        if K is not None:
+            K[:, :] = math.nan
+        return math.nan, 0, 4
+    sums, total, n_loaded, flags = _ball_pass(q, table, speed_table, omega, eps, ball_load, contact_angle, states,
+                                              warm)
     fs, acc0, acc1, acc2, acc3, acc4 = sums
     if K is not None:
         for i in range(5):
