@@ -87,6 +87,22 @@ def test_every_ball_is_in_equilibrium_at_the_solution():
         assert np.all(c.inner_load >= 0) and np.all(c.outer_load > 0)
 
 
+def test_a_scratch_without_room_for_the_summaries_is_reported_not_used():
+    """The loop keeps its per-chunk summaries in the warm scratch's tail (high_speed.warm_rows): a scratch of
+    the warm-start rows alone gets NaN and the 'not settled' bit, never a write past its end."""
+    n = SPINDLE.n_balls
+    table, speed_table = SPINDLE.ball_table(), SPINDLE.speed_table
+    q = np.array([0.002, 0.0, 0.02, 0.0, 0.0])
+    small = np.zeros((hs.N_WARM + 1, n))
+    f, K = np.empty(5), np.empty((5, 5))
+    total, loaded, flags = hs.spinning_balls(q, table, speed_table, 1000.0, 0.0, f, K, None, None, None, small)
+    assert flags & 4 and loaded == 0 and np.isnan(total) and np.isnan(f).all() and np.isnan(K).all()
+    assert not small.any()
+    f_ok = np.empty(5)
+    assert hs.spinning_balls(q, table, speed_table, 1000.0, 0.0, f_ok, None, None, None, None, hs.new_warm(n))[2] == 0
+    assert np.isfinite(f_ok).all() and f_ok[2] > 0.0
+
+
 def test_a_warm_started_ball_settles_where_a_cold_one_does():
     """Each ball starts from its last centre moved by dB = -G_B^-1 G_u du: the same equilibrium as from
     the cold guess (to the ball tolerance), whatever the previous point, and far fewer iterations."""
