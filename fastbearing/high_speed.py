@@ -81,8 +81,9 @@ WARM_ITERATIONS = 12
 #: stream per field, and LLVM's runtime alias checks exceed its limit).
 CHUNK = 32
 (S_GR, S_GZ, S_QI, S_QO, S_CI, S_SI, S_CO, S_SO, S_FC, S_MG, S_WM, S_DI, S_DO, S_X00, S_X01, S_X10, S_X11, S_FR,
- S_FZ, S_M, S_K00, S_K01, S_K10, S_K11, S_M0, S_M1, S_BR, S_BZ, S_VERDICT, S_EXACT, S_DBR, S_DBZ, S_LOADED) = range(33)
-N_SUMMARY = 33
+ S_FZ, S_M, S_K00, S_K01, S_K10, S_K11, S_M0, S_M1, S_BR, S_BZ, S_VERDICT, S_EXACT, S_DBR, S_DBZ, S_LOADED, S_UR,
+ S_UZ) = range(35)
+N_SUMMARY = 35
 
 
 @njit(cache=True)
@@ -577,6 +578,8 @@ def _predicted_chunk(q, table, speed_table, omega, eps, warm, out, j0, m, linear
         out[S_EXACT * CHUNK + i] = 1.0 if exact else 0.0
         out[S_DBR * CHUNK + i] = db_r
         out[S_DBZ * CHUNK + i] = db_z
+        out[S_UR * CHUNK + i] = ur
+        out[S_UZ * CHUNK + i] = uz
 
 
 #: The ring sums' start: f and the five columns of Kb.
@@ -640,7 +643,7 @@ def _ball_pass(q, table, speed_table, omega, eps, ball_load, contact_angle, stat
         _predicted_chunk(q, table, speed_table, omega, eps, warm, out, j0, m, linearise, cold)
         for i in range(m):
             j = j0 + i
-            ur, uz = _inner_centre(q, table, j)
+            ur, uz = out[S_UR * CHUNK + i], out[S_UZ * CHUNK + i]  # the pass's inner groove centre
             sm, br, bz, db_r, db_z, exact, verdict = _read_summary(out, i)
             iterations = 0
             settled = True
