@@ -15,6 +15,13 @@ FASTMATH = False
 KERNEL_FASTMATH = {"reassoc", "contract", "nsz", "arcp"}
 ERROR_MODEL = "numpy"
 
+#: numba's reference counting (its ``_nrt`` option) in the serial kernels: off. With it on, every array
+#: argument and every view such as ``work[_G]`` is counted with an atomic add and a call, 23 % of a load
+#: map case's time, on counters the two threads share. A function compiled with it off must neither
+#: allocate nor return an array (tests/test_layers.py checks both); the parallel sweeps, which allocate
+#: the per-block scratch, keep it on.
+REFCOUNT = False
+
 
 def __getattr__(name):
     # CACHE (numba's on-disk cache: on) is what every module with cached kernels imports from here, so

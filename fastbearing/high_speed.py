@@ -38,7 +38,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .config import ERROR_MODEL, KERNEL_FASTMATH
+from .config import ERROR_MODEL, KERNEL_FASTMATH, REFCOUNT
 from .deflection import deflection
 from .roots import cube_root
 from .trig import atan2
@@ -247,7 +247,7 @@ def ball_state(ur, uz, br, bz, p, w_i, w_o, smoothing_eps):
             Qi, Qo, ci, si, co, so, Fc, Mg, wm, delta_i, delta_o)
 
 
-@njit(fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+@njit(fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
 def start_position(ur, uz, p, w_i, w_o, smoothing_eps):
     """First guess of the ball centre B (mm from O, mirrored frame) and whether the ball touches the inner
     race at all.
@@ -346,7 +346,7 @@ def _step_length(st, step_r, step_z, reach, ri):
     return t
 
 
-@njit(fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+@njit(fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
 def _newton(ur, uz, br, bz, p, w_i, w_o, smoothing_eps, max_iterations, linearise):
     """Newton on one ball's equilibrium g(B) = 0 from B = (br, bz); returns (state, br, bz, iterations,
     settled, dB_r, dB_z, exact).
@@ -372,7 +372,7 @@ def _newton(ur, uz, br, bz, p, w_i, w_o, smoothing_eps, max_iterations, linearis
         it += 1
 
 
-@njit(fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+@njit(fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
 def settle_ball(ur, uz, p, w_i, w_o, smoothing_eps, warm_br=0.0, warm_bz=0.0, warm=False, linearise=False):
     """Settle one ball: Newton on g(B) = 0 from the warm start (warm_br, warm_bz) when ``warm`` and both
     its contacts are closed there, else (or when the warm start does not settle in WARM_ITERATIONS)
@@ -539,7 +539,7 @@ def _prediction(warm, j, ur, uz):
             warm[WARM_BZ, j] - (warm[WARM_X10, j] * du_r + warm[WARM_X11, j] * du_z))
 
 
-@njit(fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+@njit(fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
 def _predicted_chunk(q, table, speed_table, omega, eps, warm, out, j0, m, linearise, cold):
     """Balls j0 .. j0+m-1 at their first-order predictions from ``warm`` (``cold``: at their cold guesses,
     :func:`start_position`, S_LOADED saying whether it touches the inner race): state, judgement
@@ -616,7 +616,7 @@ def _ring_add(sums, sm, table, j, eps):
             _add_column(acc4, c, s, z, R, k00, k01, k10, k11, m0, m1, z * c, -R * c))
 
 
-@njit(fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+@njit(fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
 def _ring_sums(sums, table, out, j0, m, eps):
     """``sums`` plus the shares of balls j0 .. j0+m-1 from their summaries in the chunk ``out``: loads and
     sums only, so that it vectorises."""
@@ -625,7 +625,7 @@ def _ring_sums(sums, table, out, j0, m, eps):
     return sums
 
 
-@njit(fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+@njit(fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
 def _ball_pass(q, table, speed_table, omega, eps, ball_load, contact_angle, states, warm):
     """:func:`spinning_balls`' work, Kb or not (one compiled loop for both): returns (the ring sums,
     sum of Q_i in N, loaded balls, warning bits)."""
@@ -717,7 +717,7 @@ def _ball_pass(q, table, speed_table, omega, eps, ball_load, contact_angle, stat
     return sums, total, n_loaded, flags
 
 
-@njit(fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+@njit(fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
 def spinning_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact_angle, states, warm):
     """Write f (5) and, unless ``K`` is None, Kb (5x5, not symmetric) of the ball rows at shaft speed.
 

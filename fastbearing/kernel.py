@@ -18,7 +18,7 @@ import math
 from numba import njit, types
 from numba.extending import overload
 
-from .config import CACHE, ERROR_MODEL, KERNEL_FASTMATH
+from .config import CACHE, ERROR_MODEL, KERNEL_FASTMATH, REFCOUNT
 from .deflection import smoothed_deflection
 from .high_speed import spinning_balls
 from .roots import ninth_root
@@ -102,7 +102,7 @@ def _add_load(acc, c, s, z, R, fr, fz):
             k00, k01, k02, k03, k04, k11, k12, k13, k22, k23, k24, k33, k34, k44)
 
 
-@njit(error_model=ERROR_MODEL)
+@njit(error_model=ERROR_MODEL, _nrt=REFCOUNT)
 def _store(acc, f, K, add):
     """Write (or, with ``add``, add) the sums of :func:`_add_contact` into f and, unless None, Kb.
 
@@ -127,7 +127,7 @@ def _store(acc, f, K, add):
             K[4, 0] = k04; K[4, 1] = -k03; K[4, 2] = k24; K[4, 3] = k34; K[4, 4] = k44
 
 
-@njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, nogil=True)
+@njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
 def ball_loop(q, balls, f, K, ball_load, contact_angle):
     """Fill f (5) and, unless ``K`` is None, Kb (5x5) in place at displacement q.
 
@@ -369,7 +369,7 @@ def _add_roller(acc, c, s, nr, nz, F0, G, T0, T1, T2):
             k33 + T2 * ss, k34 - T2 * cs, k44 + T2 * cc)
 
 
-@njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, nogil=True)
+@njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
 def slice_loop(q, slices, smoothing, f, K, element_load, element_angle):
     """Add the roller slices' contacts to f (5) and, unless ``K`` is None, Kb (5x5), in place.
 
@@ -459,7 +459,7 @@ def slice_loop(q, slices, smoothing, f, K, element_load, element_angle):
 SETTLE_PASSES = 6
 
 
-@njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, nogil=True)
+@njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
 def settled_loop(q, balls, f, K, ball_load, contact_angle):
     """:func:`ball_loop` evaluated until no ball at speed is left linearised (BALL_LINEARISED): the
     model's f and Kb at q for the solver's last word (its record or unloaded evaluation). Outside a

@@ -8,10 +8,10 @@ import math
 
 from numba import njit
 
-from .config import CACHE, ERROR_MODEL, FASTMATH
+from .config import CACHE, ERROR_MODEL, FASTMATH, REFCOUNT
 
 
-@njit(cache=CACHE, fastmath=FASTMATH, error_model=ERROR_MODEL, nogil=True)
+@njit(cache=CACHE, fastmath=FASTMATH, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
 def cholesky_solve(A, shift, b, x, L):
     """Solve (A + shift*I) x = b for symmetric 5x5 A via Cholesky; False if not positive definite.
 
@@ -44,7 +44,7 @@ def cholesky_solve(A, shift, b, x, L):
     return True
 
 
-@njit(cache=CACHE, fastmath=FASTMATH, error_model=ERROR_MODEL, nogil=True)
+@njit(cache=CACHE, fastmath=FASTMATH, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
 def lu_solve(A, b, x, LU, perm, shift):
     """Solve (A + shift*I) x = b by LU with partial pivoting (A unchanged); False if singular."""
     n = A.shape[0]
@@ -88,7 +88,7 @@ def lu_solve(A, b, x, LU, perm, shift):
 
 
 
-@njit(cache=CACHE, fastmath=FASTMATH, error_model=ERROR_MODEL, nogil=True)
+@njit(cache=CACHE, fastmath=FASTMATH, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
 def stiffness_solve(A, shift, b, x, LU, perm):
     """Solve (A + shift*I) x = b for a 5x5 stiffness A: Cholesky where A is exactly symmetric (Kb of the
     quasi-static model, whose kernel mirrors its entries), else LU with partial pivoting (Kb at speed is

@@ -34,7 +34,7 @@ from collections import namedtuple
 
 from numba import njit
 
-from .config import (CACHE, DIVERGED_REACH, ERROR_MODEL, FASTMATH, NEWTON, SEARCH_CURVATURE, SEARCH_TRIALS,
+from .config import (CACHE, DIVERGED_REACH, ERROR_MODEL, FASTMATH, NEWTON, REFCOUNT, SEARCH_CURVATURE, SEARCH_TRIALS,
                      SMOOTHING_FIRST, SMOOTHING_LAST, SMOOTHING_RATIO, SMOOTHING_RTOL, STAGNATION_ITERATIONS,
                      STILL_START_RTOL)
 from .high_speed import WARM_LINEARISE
@@ -66,7 +66,7 @@ _EPS = 2.220446049250313e-16
 _FLOOR_FACTOR = 1.0
 
 
-@njit(cache=CACHE, fastmath=FASTMATH, error_model=ERROR_MODEL, nogil=True)
+@njit(cache=CACHE, fastmath=FASTMATH, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
 def _scaled_residual(f, f_target, D, g):
     """g = D (f - f_target); returns (max |g_i|, sum g_i^2); (inf, inf) if not finite."""
     rmax = 0.0
@@ -80,7 +80,7 @@ def _scaled_residual(f, f_target, D, g):
     return rmax, r2
 
 
-@njit(cache=CACHE, fastmath=FASTMATH, error_model=ERROR_MODEL, nogil=True)
+@njit(cache=CACHE, fastmath=FASTMATH, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
 def _rounding_floor(total, Ks, q, D, arm, reach):
     """How far a computed scaled residual can be from the true one at q (N).
 
@@ -98,7 +98,7 @@ def _rounding_floor(total, Ks, q, D, arm, reach):
     return _FLOOR_FACTOR * _EPS * (total * arm + trace * (reach + size))
 
 
-@njit(cache=CACHE, fastmath=FASTMATH, error_model=ERROR_MODEL, nogil=True)
+@njit(cache=CACHE, fastmath=FASTMATH, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
 def _cold_start(f_target, q, f, K, balls, D, max_step):
     """A first q along the load direction, sized so the balls carry about the load.
 
@@ -162,7 +162,7 @@ def _evaluate(x, balls, fx, Kx, newton, record, ball_load, contact_angle):
     return ball_loop(x, balls, fx, None, None, None)
 
 
-@njit(cache=CACHE, fastmath=FASTMATH, error_model=ERROR_MODEL, nogil=True)
+@njit(cache=CACHE, fastmath=FASTMATH, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
 def _descend(f_target, q, f, K, total, n_loaded, warn, balls, settings, tol, arm, reach, D, work, ball_load,
              contact_angle):
     """The fast phase: Newton or Broyden from q; f, K, total, n_loaded, warn are the kernel's values at q.
@@ -328,7 +328,7 @@ def _descend(f_target, q, f, K, total, n_loaded, warn, balls, settings, tol, arm
     return ITERATION_LIMIT, settings.max_iter, rmax, evals, total, warn, False
 
 
-@njit(cache=CACHE, fastmath=FASTMATH, error_model=ERROR_MODEL, nogil=True)
+@njit(cache=CACHE, fastmath=FASTMATH, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
 def _minimise_energy(f_target, q, f, K, balls, settings, tol, arm, reach, D, work):
     """Minimise Pi(q) = sum_j E(delta_j) - f_target . q from q (f, K evaluated there on entry).
 
@@ -469,7 +469,7 @@ def _minimise_energy(f_target, q, f, K, balls, settings, tol, arm, reach, D, wor
     return ITERATION_LIMIT, settings.max_iter, rmax, evals, total, warn
 
 
-@njit(cache=CACHE, fastmath=FASTMATH, error_model=ERROR_MODEL, nogil=True)
+@njit(cache=CACHE, fastmath=FASTMATH, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
 def _smoothing_continuation(f_target, q, f, K, balls, settings, tol, arm, reach, D, work):
     """The fallback: :func:`_minimise_energy` with the contact law smoothed, eps -> 0.
 
@@ -497,7 +497,7 @@ def _smoothing_continuation(f_target, q, f, K, balls, settings, tol, arm, reach,
     return st, iterations + it, rmax, evals + ev, total, warn
 
 
-@njit(cache=CACHE, fastmath=FASTMATH, error_model=ERROR_MODEL, nogil=True)
+@njit(cache=CACHE, fastmath=FASTMATH, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
 def _still_start(f_target, q, f, K, balls, settings, tol, arm, reach, D, work, ball_load, contact_angle):
     """q solving the load to ``tol`` with the balls standing still (omega 0: the quasi-static loop).
     Returns (evaluations, iterations, whether q is a start worth taking). The record arrays are only
@@ -509,7 +509,7 @@ def _still_start(f_target, q, f, K, balls, settings, tol, arm, reach, D, work, b
     return ev + ev2, it, status == CONVERGED
 
 
-@njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True)
+@njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
 def with_warnings(status, warn):
     """A converged outcome with the kernel's warning bits on top; a ball at speed that did not settle
     (BALL_UNSETTLED) makes it BALL_EQUILIBRIUM: f and Kb there are not the model's."""
@@ -518,7 +518,7 @@ def with_warnings(status, warn):
     return status | (warn & WARNING_MASK)
 
 
-@njit(cache=CACHE, fastmath=FASTMATH, error_model=ERROR_MODEL, nogil=True)
+@njit(cache=CACHE, fastmath=FASTMATH, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
 def _all_finite(q, f, K):
     ok = True
     for i in range(5):
@@ -528,7 +528,7 @@ def _all_finite(q, f, K):
     return ok
 
 
-@njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True)
+@njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
 def _take_linearised(spin, allowed):
     """Tell the balls at speed (warm-start scratch ``spin``, None without speed) whether this solve takes
     linearised balls: the solver's tests see BALL_LINEARISED and evaluate again before they converge."""
@@ -537,7 +537,7 @@ def _take_linearised(spin, allowed):
             spin[WARM_LINEARISE, 0] = 1.0 if allowed else 0.0
 
 
-@njit(cache=CACHE, fastmath=FASTMATH, error_model=ERROR_MODEL, nogil=True)
+@njit(cache=CACHE, fastmath=FASTMATH, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
 def solve_case(f_target, q, f, K, balls, settings, warm, work, ball_load, contact_angle):
     """Find q with f(q) = f_target; fill q (5), f (5) and Kb (5x5) in place.
 

@@ -11,7 +11,7 @@ import numpy as np
 from numba import njit, prange, types
 from numba.extending import intrinsic, overload
 
-from .config import CACHE, ERROR_MODEL
+from .config import CACHE, ERROR_MODEL, REFCOUNT
 from .high_speed import WARM_VALID, warm_rows
 from .kernel import ball_loop, slice_count
 from .linalg import stiffness_solve
@@ -34,7 +34,7 @@ def _load_flag(typingctx, flag):
     return types.int64(flag), codegen
 
 
-@njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True)
+@njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
 def stop_requested(stop):
     """True once ``stop[0]`` is non-zero (set by the runner's Ctrl-C handler)."""
     return _load_flag(stop) != 0
@@ -75,7 +75,8 @@ def at_speed(balls, speeds, i, warm, fresh):
     are unchanged."""
 
 
-@overload(at_speed)
+# inlined: it returns arrays, which a caller without reference counting (map_runs) must not get from a counted call
+@overload(at_speed, inline="always")
 def _at_speed(balls, speeds, i, warm, fresh):
     if isinstance(balls.types[4], types.NoneType):
         return lambda balls, speeds, i, warm, fresh: balls
@@ -117,7 +118,7 @@ def stiffness_sweep(q, f, K, balls, speeds, block):
             ball_loop(q[i], at_speed(balls, speeds, i, spin, True), f[i], K[i], None, None)
 
 
-@njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True)
+@njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
 def row_summary(ball_load, contact_angle, ball_row, max_load, n_loaded, min_angle, max_angle):
     """Per-row load distribution from one evaluation's per-ball record.
 
@@ -148,7 +149,7 @@ def row_summary(ball_load, contact_angle, ball_row, max_load, n_loaded, min_angl
 LIFE_CI, LIFE_CE, LIFE_Z, LIFE_INNER, LIFE_X0, LIFE_Y0, LIFE_SLICES, LIFE_FIRST = range(8)
 
 
-@njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True)
+@njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
 def case_life(ball_load, outer_load, ball_row, life, sums, L_row):
     """ISO/TS 16281 L10r (million revolutions) of one case from its ball loads (N); fills ``L_row`` per row.
     ``ball_load`` are the inner contacts' loads and ``outer_load`` the outer contacts' at speed, where the
@@ -196,7 +197,7 @@ def case_life(ball_load, outer_load, ball_row, life, sums, L_row):
     return total ** -0.9 if total > 0.0 else np.inf
 
 
-@njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True)
+@njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
 def roller_case_life(record, n_elements, life, L_row):
     """ISO/TS 16281 L10r (million revolutions) of one case of a roller bearing from its slice loads (N, the
     kernel's per-slice record after the ``n_elements`` elements); fills ``L_row`` per row.
@@ -233,7 +234,7 @@ def roller_case_life(record, n_elements, life, L_row):
     return total ** (-8.0 / 9.0) if total > 0.0 else np.inf
 
 
-@njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True)
+@njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
 def static_safety(load, life, C0):
     """ISO 76 S0 = C0 / max(X0 Fr + Y0 Fa, Fr) under ``load`` (N); inf without load."""
     Fr = math.hypot(load[0], load[1])
@@ -246,7 +247,7 @@ def static_safety(load, life, C0):
 MAP_GROUPS = 64
 
 
-@njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True)
+@njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
 def operating_point(given_load, inputs, warm, q, f, K, balls, settings, work, ball_load, contact_angle):
     """One case of a map or a ball-passage table: solve for q (load given) or substitute q.
 
@@ -264,7 +265,7 @@ def operating_point(given_load, inputs, warm, q, f, K, balls, settings, work, ba
     return (with_warnings(status, warnings) if status == CONVERGED else status), 0, 0.0
 
 
-@njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True)
+@njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
 def substitution_status(f, K):
     """CONVERGED for a finite f and Kb from direct substitution, NONFINITE_RESULT otherwise."""
     for i in range(5):
@@ -276,7 +277,7 @@ def substitution_status(f, K):
     return CONVERGED
 
 
-@njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True)
+@njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
 def tangent_predictor(given_load, target, q_prev, f_prev, K_prev, q, scratch):
     """Start for the next case of a line: q_prev + Kb^-1 (f_target - f_prev).
 
@@ -301,7 +302,7 @@ def tangent_predictor(given_load, target, q_prev, f_prev, K_prev, q, scratch):
             q[d] += step[d]
 
 
-@njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True)
+@njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
 def curved_predictor(target, load_prev, load_prev2, q_prev, q_prev2, q):
     """Bend the tangent start q (from :func:`tangent_predictor`) onto the parabola through the line's two
     last solutions: second order in the load step where the tangent is first order.
@@ -344,59 +345,73 @@ def map_sweep(inputs, given_load, segments, q, f, K, status, iterations, residua
     block into continuation runs along the fastest grid axis: each run
     starts cold and each later case starts from its neighbour's converged q
     by the tangent predictor (bent through the one before, :func:`curved_predictor`),
-    falling back to a cold start inside the solver when that fails. ``stop[0] != 0`` (set by Ctrl-C from another thread)
-    ends the sweep at the next case; the block is then incomplete. With a
+    falling back to a cold start inside the solver when that fails. ``stop[0] != 0`` (set by Ctrl-C from
+    another thread) ends the sweep at the next case; the block is then incomplete. With a
     ``life`` table (rows, 8; life.life_table) of more than zero rows, L10r,
     L10r_row and the static safety (with C0 in N; nan where a case did not
     converge) are filled too (else they may be (1, ...) arrays, untouched).
     """
-    want_life = life.shape[0] > 0
-    roller_life = want_life and life[0, LIFE_SLICES] > 0.0
-    spinning_life = want_life and speeds.shape[0] > 0
     n_runs = segments.shape[0] - 1
     groups = min(n_runs, MAP_GROUPS)
     n_elements = ball_row.shape[0]
+    want_life = life.shape[0] > 0
+    roller_life = want_life and life[0, LIFE_SLICES] > 0.0
+    spinning_life = want_life and speeds.shape[0] > 0
     # a roller bearing's life needs every slice's load: the record then carries them after the elements;
     # at speed each ring's own contacts: the outer contacts' loads follow the inner ones
     n_record = n_elements + (slice_count(balls[3]) if roller_life else 0) + (n_elements if spinning_life else 0)
+    results = (q, f, K, status, iterations, residual, max_load, n_loaded, min_angle, max_angle)
+    life_results = (L10r, L10r_row, safety)
     for g in prange(groups):
-        work = np.empty((WORK_ROWS, 5))
-        predictor = np.empty((8, 5))
-        ball_load = np.empty(n_record)
-        contact_angle = np.empty(n_record)
-        sums = np.empty((max(life.shape[0], 1), 2))
-        spin = warm_scratch(balls[4])
-        for run in range(g, n_runs, groups):
+        scratch = (np.empty((WORK_ROWS, 5)), np.empty((8, 5)), np.empty(n_record), np.empty(n_record),
+                   np.empty((max(life.shape[0], 1), 2)), warm_scratch(balls[4]))
+        map_runs(range(g, n_runs, groups), inputs, given_load, segments, results, balls, speeds, ball_row,
+                 settings, stop, life, C0, life_results, scratch)
+
+
+@njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
+def map_runs(runs, inputs, given_load, segments, results, balls, speeds, ball_row, settings, stop, life, C0,
+             life_results, scratch):
+    """The continuation runs ``runs`` (a range) of :func:`map_sweep`'s block, one after another, with one
+    group's ``scratch`` (solver work, predictor, the per-ball record's two arrays, life sums, warm starts).
+    Serial and without reference counting: the results' rows are views of arrays both threads write."""
+    q, f, K, status, iterations, residual, max_load, n_loaded, min_angle, max_angle = results
+    L10r, L10r_row, safety = life_results
+    work, predictor, ball_load, contact_angle, sums, spin = scratch
+    want_life = life.shape[0] > 0
+    roller_life = want_life and life[0, LIFE_SLICES] > 0.0
+    spinning_life = want_life and speeds.shape[0] > 0
+    n_elements = ball_row.shape[0]
+    for run in runs:
+        if stop_requested(stop):
+            break
+        for i in range(segments[run], segments[run + 1]):
             if stop_requested(stop):
                 break
-            for i in range(segments[run], segments[run + 1]):
-                if stop_requested(stop):
-                    break
-                warm = i > segments[run] and (status[i - 1] & OUTCOME_MASK) == CONVERGED
-                if warm:
-                    tangent_predictor(given_load, inputs[i], q[i - 1], f[i - 1], K[i - 1], q[i], predictor)
-                    if given_load and i - 1 > segments[run] and (status[i - 2] & OUTCOME_MASK) == CONVERGED:
-                        curved_predictor(inputs[i], inputs[i - 1], inputs[i - 2], q[i - 1], q[i - 2], q[i])
-                status[i], iterations[i], residual[i] = operating_point(
-                    given_load, inputs[i], warm, q[i], f[i], K[i], at_speed(balls, speeds, i, spin, not warm), settings, work,
-                    ball_load, contact_angle)
-                row_summary(ball_load, contact_angle, ball_row, max_load[i], n_loaded[i], min_angle[i],
-                            max_angle[i])
-                if want_life:
-                    if (status[i] & OUTCOME_MASK) == CONVERGED or (status[i] & OUTCOME_MASK) == UNLOADED:
-                        if roller_life:
-                            L10r[i] = roller_case_life(ball_load, n_elements, life, L10r_row[i])
-                        elif spinning_life and speeds[i] > 0.0:
-                            L10r[i] = case_life(ball_load, ball_load[n_elements:], ball_row, life, sums,
-                                                L10r_row[i])
-                        else:
-                            L10r[i] = case_life(ball_load, None, ball_row, life, sums, L10r_row[i])
-                        safety[i] = static_safety(inputs[i] if given_load else f[i], life, C0)
-                    else:
-                        L10r[i] = np.nan
-                        safety[i] = np.nan
-                        for r in range(L10r_row.shape[1]):
-                            L10r_row[i, r] = np.nan
+            warm = i > segments[run] and (status[i - 1] & OUTCOME_MASK) == CONVERGED
+            if warm:
+                tangent_predictor(given_load, inputs[i], q[i - 1], f[i - 1], K[i - 1], q[i], predictor)
+                if given_load and i - 1 > segments[run] and (status[i - 2] & OUTCOME_MASK) == CONVERGED:
+                    curved_predictor(inputs[i], inputs[i - 1], inputs[i - 2], q[i - 1], q[i - 2], q[i])
+            status[i], iterations[i], residual[i] = operating_point(
+                given_load, inputs[i], warm, q[i], f[i], K[i], at_speed(balls, speeds, i, spin, not warm), settings,
+                work, ball_load, contact_angle)
+            row_summary(ball_load, contact_angle, ball_row, max_load[i], n_loaded[i], min_angle[i], max_angle[i])
+            if not want_life:
+                continue
+            if (status[i] & OUTCOME_MASK) == CONVERGED or (status[i] & OUTCOME_MASK) == UNLOADED:
+                if roller_life:
+                    L10r[i] = roller_case_life(ball_load, n_elements, life, L10r_row[i])
+                elif spinning_life and speeds[i] > 0.0:
+                    L10r[i] = case_life(ball_load, ball_load[n_elements:], ball_row, life, sums, L10r_row[i])
+                else:
+                    L10r[i] = case_life(ball_load, None, ball_row, life, sums, L10r_row[i])
+                safety[i] = static_safety(inputs[i] if given_load else f[i], life, C0)
+            else:
+                L10r[i] = np.nan
+                safety[i] = np.nan
+                for r in range(L10r_row.shape[1]):
+                    L10r_row[i, r] = np.nan
 
 
 def slices_at(slice_tables, p):

@@ -108,3 +108,40 @@ def test_stale_kernel_cache_is_dropped_also_under_numba_cache_dir(tmp_path):
     from fastbearing import _cache
 
     assert (folder / "fastbearing-numba-cache.stamp").read_text() == _cache.source_hash()
+
+
+def test_kernels_without_reference_counting_never_return_arrays(tmp_path):
+    """A function compiled with numba's reference counting off (config.REFCOUNT) hands out arrays without
+    counting them: a counted caller would later release a reference it never got and free live memory.
+    Allocation fails to compile there; a returned array (or a tuple holding one) is checked here, over
+    every signature the quasi-static, high-speed, roller and map paths compiled."""
+    from numba.core import types
+    from numba.core.registry import CPUDispatcher
+
+    import fastbearing as fb
+    from fastbearing import high_speed, kernel, linalg, solver, sweep
+
+    bearings = PACKAGE.parent / "data" / "bearings"
+    fb.solve(fb.Bearing.preset("gunduz2013", "DB"), [100.0, 0.0, 500.0, 0.0, 1e3])
+    fb.solve(fb.load_bearing(bearings / "7014C-DB.toml"), [100.0, 0.0, 500.0, 0.0, 1e3], speed=12000.0)
+    fb.solve(fb.load_bearing(bearings / "30206-TDO.toml"), [1000.0, 0.0, 500.0, 0.0, 0.0])
+    import tomllib
+
+    spindle = tomllib.loads((PACKAGE.parent / "data" / "examples" / "spindle-7014-speed.toml").read_text())
+    spindle["loadmap"] = {"given": "load", "speed": [0.0, 12000.0], "Fx": 500.0,
+                          "Fz": {"start": 400.0, "stop": 600.0, "num": 3}, "life": True}
+    fb.loadmap(spindle, tmp_path / "map.h5", progress=False)
+
+    def holds_array(t):
+        if isinstance(t, types.ArrayCompatible):
+            return True
+        return isinstance(t, types.BaseTuple) and any(holds_array(x) for x in t)
+
+    uncounted = []
+    for module in (high_speed, kernel, linalg, solver, sweep):
+        for name, obj in vars(module).items():
+            if isinstance(obj, CPUDispatcher) and obj.targetoptions.get("_nrt") is False:
+                uncounted.append(name)
+                for sig, cres in obj.overloads.items():
+                    assert not holds_array(cres.signature.return_type), (module.__name__, name, sig)
+    assert {"solve_case", "ball_loop", "map_runs", "cholesky_solve"} <= set(uncounted)
