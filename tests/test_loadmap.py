@@ -383,25 +383,33 @@ def test_ctrl_c_stops_quickly_and_leaves_a_resumable_file(tmp_path):
     assert open_dataset(out)["status"].size == 60 * 40 * 50
 
 
-def test_curved_predictor_is_one_order_better_than_the_tangent():
+def test_curved_predictors_are_one_and_two_orders_better_than_the_tangent():
     """Along a line of loads the map starts each case from its neighbours: the tangent start's error
-    falls as h^2 with the load step h, the parabola's (sweep.curved_predictor) as h^3. Where every ball
-    stays loaded (q(F) smooth; a ball entering contact is where both lose an order)."""
-    from fastbearing.sweep import curved_predictor, tangent_predictor
+    falls as h^2 with the load step h, the parabola's (sweep.curved_predictor without the earlier slope)
+    as h^3 and the cubic's (with the slope the previous case's tangent step gives) as h^4. Where every ball
+    stays loaded (q(F) smooth; a ball entering contact is where all lose an order)."""
+    from fastbearing.sweep import PREDICTOR_ROWS, curved_predictor, tangent_predictor
 
     bearing = fb.Bearing.preset("gunduz2013", "single")
     base, line = np.array([300.0, 0.0, 5000.0, 0.0, -2000.0]), np.array([0.0, 0.0, 0.0, 0.0, 1.0])
-    errors = {"tangent": [], "curved": []}
+    errors = {"tangent": [], "parabola": [], "cubic": []}
+    scratch = np.empty((PREDICTOR_ROWS, 5))
     for h in (4000.0, 2000.0, 1000.0, 500.0):
         loads = [base + k * h * line for k in range(3)]
         solved = [fb.solve(bearing, F, rtol=1e-13) for F in loads]
         assert all((fb.ball_loads(bearing, r.q)[0] > 0).all() for r in solved)
-        q = np.empty(5)
-        tangent_predictor(True, loads[2], solved[1].q, solved[1].f, solved[1].K, q, np.empty((8, 5)))
+        q, slope = np.empty(5), np.empty(5)
+        assert tangent_predictor(True, loads[1], solved[0].q, solved[0].f, solved[0].K, slope, scratch)
+        slope -= solved[0].q  # the tangent step case 1 took from case 0
+        assert tangent_predictor(True, loads[2], solved[1].q, solved[1].f, solved[1].K, q, scratch)
         errors["tangent"].append(np.abs((q - solved[2].q) * D).max())
-        curved_predictor(loads[2], loads[1], loads[0], solved[1].q, solved[0].q, q)
-        errors["curved"].append(np.abs((q - solved[2].q) * D).max())
+        for name, known in (("parabola", False), ("cubic", True)):
+            bent = q.copy()
+            curved_predictor(loads[2], loads[1], loads[0], solved[1].q, solved[0].q, bent, slope, known)
+            errors[name].append(np.abs((bent - solved[2].q) * D).max())
     rates = {name: np.log2(np.array(e[:-1]) / np.array(e[1:])) for name, e in errors.items()}
     assert (np.abs(rates["tangent"] - 2.0) < 0.35).all(), rates
-    assert (np.abs(rates["curved"][1:] - 3.0) < 0.35).all(), rates
-    assert errors["curved"][-1] < 0.05 * errors["tangent"][-1]
+    assert (np.abs(rates["parabola"][1:] - 3.0) < 0.35).all(), rates
+    assert (np.abs(rates["cubic"][1:] - 4.0) < 0.45).all(), rates
+    assert errors["parabola"][-1] < 0.05 * errors["tangent"][-1]
+    assert errors["cubic"][-1] < 0.2 * errors["parabola"][-1]
