@@ -70,5 +70,9 @@ SMOOTHING_RTOL = 1e-6
 #: A cold solve at speed first solves the balls standing still (the quasi-static loop, a tenth of the
 #: cost) to this relative residual and starts the spinning balls from there: 20 % faster cold solves.
 STILL_START_RTOL = 0.1
+#: A Newton trial carries the per-ball record (so that no evaluation is spent on it after convergence)
+#: where the residual it starts from predicts convergence: Newton's next residual is about rmax^2 / scale,
+#: and the trial records when that is within RECORD_AHEAD x tol (at speed every trial records).
+RECORD_AHEAD = 1.0
 #: Cases per block in parallel sweeps: per-block scratch is allocated once.
 SWEEP_BLOCK = 64

@@ -34,8 +34,8 @@ from collections import namedtuple
 
 from numba import njit
 
-from .config import (CACHE, DIVERGED_REACH, ERROR_MODEL, FASTMATH, NEWTON, REFCOUNT, SEARCH_CURVATURE, SEARCH_TRIALS,
-                     SMOOTHING_FIRST, SMOOTHING_LAST, SMOOTHING_RATIO, SMOOTHING_RTOL, STAGNATION_ITERATIONS,
+from .config import (CACHE, DIVERGED_REACH, ERROR_MODEL, FASTMATH, NEWTON, RECORD_AHEAD, REFCOUNT,
+                     SEARCH_CURVATURE, SEARCH_TRIALS, SMOOTHING_FIRST, SMOOTHING_LAST, SMOOTHING_RATIO, SMOOTHING_RTOL, STAGNATION_ITERATIONS,
                      STILL_START_RTOL)
 from .high_speed import WARM_LINEARISE
 from .kernel import SETTLE_PASSES, ball_loop, settled_loop, slice_reach
@@ -172,10 +172,11 @@ def _descend(f_target, q, f, K, total, n_loaded, warn, balls, settings, tol, arm
     work[_FLOOR, 0] the rounding floor there. Returns (status, iterations,
     residual max-norm, evaluations, total load, the kernel's warning bits,
     recorded); any status but CONVERGED sends the case to the fallback.
-    Newton at speed writes the per-ball record (``ball_load``,
-    ``contact_angle``, None: none) at every trial, and ``recorded`` says that
-    the returned q's is there: at speed the record costs a fraction of the
-    evaluation it would otherwise take after convergence.
+    Newton writes the per-ball record (``ball_load``, ``contact_angle``,
+    None: none) on the trials expected to converge (RECORD_AHEAD; at speed
+    on every trial), and ``recorded`` says that the returned q's is there:
+    the record then costs a fraction of the evaluation it would otherwise
+    take after convergence.
     """
     g = work[_G]
     dp = work[_STEP]
@@ -201,6 +202,8 @@ def _descend(f_target, q, f, K, total, n_loaded, warn, balls, settings, tol, arm
             B[i, j] = K[i, j] * D[i] * D[j]
     passes = 0
     record_trials = newton and balls[5] != 0.0
+    # the residual (squared) from which a quasi-static Newton trial is expected to converge (RECORD_AHEAD)
+    record_from = RECORD_AHEAD * tol * tol / settings.rtol if newton and ball_load is not None else -1.0
     recorded = False
     for it in range(settings.max_iter + 1):
         while True:
@@ -259,18 +262,19 @@ def _descend(f_target, q, f, K, total, n_loaded, warn, balls, settings, tol, arm
                 for i in range(5):
                     dp[i] *= cap / big
             t = 1.0
+            record = record_trials or rmax * rmax <= record_from
             for h in range(_HALVINGS):
                 for i in range(5):
                     qt[i] = q[i] + t * dp[i] * D[i]
-                tot_t, nl_t, nr_t = _evaluate(qt, balls, ft, Kt, newton, record_trials, ball_load, contact_angle)
-                if record_trials:
+                tot_t, nl_t, nr_t = _evaluate(qt, balls, ft, Kt, newton, record, ball_load, contact_angle)
+                if record:
                     recorded = False  # q's record, if any, is overwritten: it is the trial's until accepted
                 evals += 1
                 rmax_t, r2_t = _scaled_residual(ft, f_target, D, gt)
                 # an unloaded trial point has Kb = 0: no information to go on from
                 if nl_t > 0 and r2_t <= (1.0 - _ARMIJO * t) * r2:
                     accepted = True
-                    recorded = record_trials
+                    recorded = record
                     break
                 t *= 0.5
             if accepted:
