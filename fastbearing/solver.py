@@ -39,7 +39,7 @@ from .config import (CACHE, DIVERGED_REACH, ERROR_MODEL, FASTMATH, NEWTON, RECOR
                      STILL_START_RTOL)
 from .high_speed import WARM_LINEARISE
 from .kernel import SETTLE_PASSES, ball_loop, settled_loop, slice_reach
-from .linalg import cholesky_solve, lu_solve, stiffness_solve
+from .linalg import ldl_solve, lu_solve, stiffness_solve
 from .status import (BALL_EQUILIBRIUM, BALL_LINEARISED, BALL_UNSETTLED, CONVERGED, ITERATION_LIMIT, NONFINITE_INPUT,
                      NONFINITE_RESULT, PRECISION_LIMIT, SINGULAR, STALLED, UNLOADED, WARNING_MASK)
 
@@ -353,7 +353,6 @@ def _minimise_energy(f_target, q, f, K, balls, settings, tol, arm, reach, D, wor
     rhs = work[_RHS]
     Ks = work[_KS:_KS + 5]
     Kt = work[_KT:_KT + 5]
-    LU = work[_LU:_LU + 5]
     keep = work[_BEST]
     evals = 1
     total, n_loaded, warn = ball_loop(q, balls, f, K, None, None)
@@ -385,7 +384,7 @@ def _minimise_energy(f_target, q, f, K, balls, settings, tol, arm, reach, D, wor
         gnorm = math.sqrt(gnorm)
         if it == settings.max_iter:
             break
-        ok = cholesky_solve(Ks, 0.0, rhs, dp, LU)
+        ok = ldl_solve(Ks, 0.0, rhs, dp)
         if ok:
             size = 0.0
             for i in range(5):
@@ -393,7 +392,7 @@ def _minimise_energy(f_target, q, f, K, balls, settings, tol, arm, reach, D, wor
             ok = math.sqrt(size) <= radius
         if not ok:
             # (Kb + lam I) >= lam I bounds this step by the radius
-            cholesky_solve(Ks, gnorm / radius, rhs, dp, LU)
+            ldl_solve(Ks, gnorm / radius, rhs, dp)
         dphi0 = 0.0
         for i in range(5):
             dphi0 += g[i] * dp[i]

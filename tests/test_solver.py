@@ -244,9 +244,9 @@ def test_loads_are_numbers_not_strings_booleans_or_complex(load):
         fb.solve(fb.Bearing.preset("gunduz2013", "DB"), load)
 
 
-def test_the_stiffness_solve_takes_cholesky_for_a_symmetric_kb_and_lu_for_kb_at_speed():
+def test_the_stiffness_solve_takes_ldl_for_a_symmetric_kb_and_lu_for_kb_at_speed():
     """linalg.stiffness_solve: an exactly symmetric Kb (the quasi-static kernel mirrors its entries) goes
-    through Cholesky (a matrix that is not positive definite is refused), a Kb at speed (not symmetric: the
+    through LDL^T (a matrix that is not positive definite is refused), a Kb at speed (not symmetric: the
     gyroscopic friction) through LU, which solves the whole matrix, not its lower triangle; both against
     numpy.linalg.solve, shift included."""
     from fastbearing.linalg import stiffness_solve
@@ -261,6 +261,12 @@ def test_the_stiffness_solve_takes_cholesky_for_a_symmetric_kb_and_lu_for_kb_at_
             assert stiffness_solve(A, shift, b, x, L, perm)
             assert np.allclose(x, np.linalg.solve(A + shift * np.eye(5), b), rtol=1e-12, atol=1e-14)
     assert not stiffness_solve(-spd, 0.0, b, x, L, perm)  # symmetric, not positive definite
+    for k in range(5):  # each pivot is checked: positive definite up to row k only
+        A = spd.copy()
+        A[k, k] = (A[k, :k] @ np.linalg.solve(spd[:k, :k], A[:k, k]) if k else 0.0) - 1e-3  # pivot d_k < 0
+        assert not stiffness_solve(A, 0.0, b, x, L, perm), k
+        A[k, k] = np.nan
+        assert not stiffness_solve(A, 0.0, b, x, L, perm), k
     spindle = Path(__file__).parent.parent / "data" / "bearings" / "7014C-DB.toml"
     _, K = fb.stiffness(fb.load_bearing(spindle), [0.01, 0.0, 0.02, 1e-4, 0.0],
                         speed=15000.0)
