@@ -23,8 +23,19 @@ import pytest
 CHILD = """
 import json, resource, sys
 from fastbearing.loadmap import loadmap
+def own_peak_kb():
+    # VmHWM: this process's own peak (ru_maxrss survives exec, so a child forked from a large pytest
+    # process would report the parent's size); ru_maxrss where /proc is not there
+    try:
+        with open("/proc/self/status") as fh:
+            for line in fh:
+                if line.startswith("VmHWM:"):
+                    return int(line.split()[1])
+    except OSError:
+        pass
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
 loadmap(json.loads(sys.argv[1]), sys.argv[2], progress=False)
-print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)
+print(own_peak_kb())
 """
 BEARING = {"preset": "gunduz2013", "arrangement": "DB"}
 
