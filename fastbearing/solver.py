@@ -168,8 +168,9 @@ def _descend(f_target, q, f, K, total, n_loaded, warn, balls, settings, tol, arm
     """The fast phase: Newton or Broyden from q; f, K, total, n_loaded, warn are the kernel's values at q.
 
     Stops when the scaled residual is within max(tol, rounding floor). On
-    return f (and, for Newton, K) hold the values at the returned q, and
-    work[_FLOOR, 0] the rounding floor there. Returns (status, iterations,
+    return f holds the values at the returned q and work[_FLOOR, 0] the
+    rounding floor there; so does K for Newton, except after STALLED (it may
+    then hold a rejected trial's: every later phase evaluates q again). Returns (status, iterations,
     residual max-norm, evaluations, total load, the kernel's warning bits,
     recorded); any status but CONVERGED sends the case to the fallback.
     Newton writes the per-ball record (``ball_load``, ``contact_angle``,
@@ -197,9 +198,10 @@ def _descend(f_target, q, f, K, total, n_loaded, warn, balls, settings, tol, arm
     since_best = 0
     lam = 0.0
     fresh_jacobian = True
-    for i in range(5):
-        for j in range(5):
-            B[i, j] = K[i, j] * D[i] * D[j]
+    if not newton:
+        for i in range(5):
+            for j in range(5):
+                B[i, j] = K[i, j] * D[i] * D[j]
     passes = 0
     record_trials = newton and balls[5] != 0.0
     # the residual (squared) from which a quasi-static Newton trial is expected to converge (RECORD_AHEAD)
@@ -266,7 +268,8 @@ def _descend(f_target, q, f, K, total, n_loaded, warn, balls, settings, tol, arm
             for h in range(_HALVINGS):
                 for i in range(5):
                     qt[i] = q[i] + t * dp[i] * D[i]
-                tot_t, nl_t, nr_t = _evaluate(qt, balls, ft, Kt, newton, record, ball_load, contact_angle)
+                # Newton's trial Kb goes straight into K: the step solves use Ks, K at q is not read again
+                tot_t, nl_t, nr_t = _evaluate(qt, balls, ft, K, newton, record, ball_load, contact_angle)
                 if record:
                     recorded = False  # q's record, if any, is overwritten: it is the trial's until accepted
                 evals += 1
@@ -315,10 +318,6 @@ def _descend(f_target, q, f, K, total, n_loaded, warn, balls, settings, tol, arm
             q[i] = qt[i]
             f[i] = ft[i]
             g[i] = gt[i]
-        if newton:
-            for i in range(5):
-                for j in range(5):
-                    K[i, j] = Kt[i, j]
         total = tot_t
         n_loaded = nl_t
         warn = nr_t

@@ -122,23 +122,39 @@ def stiffness_sweep(q, f, K, balls, speeds, block):
 def row_summary(ball_load, contact_angle, ball_row, max_load, n_loaded, min_angle, max_angle):
     """Per-row load distribution from one evaluation's per-ball record.
 
-    Largest ball load (N), loaded-ball count, smallest and largest contact
-    angle of the loaded balls (rad; nan for a row with no loaded ball).
+    Largest ball load (N; nan where a ball's load is nan: no valid solution), loaded-ball count, smallest
+    and largest contact angle of the loaded balls (rad; nan for a row with no loaded ball). A row's balls
+    are summed in registers, with selects, and merged into its entries where the row changes (the rows'
+    balls are consecutive in a ball set; any order gives the same answer).
     """
     for r in range(max_load.shape[0]):
         max_load[r] = 0.0
         n_loaded[r] = 0
         min_angle[r] = np.inf
         max_angle[r] = -np.inf
-    for j in range(ball_row.shape[0]):  # the elements; a longer record's slices follow them
+    n = ball_row.shape[0]  # the elements; a longer record's slices follow them
+    j = 0
+    while j < n:
         r = ball_row[j]
-        if ball_load[j] > 0.0:
-            max_load[r] = max(max_load[r], ball_load[j])
-            n_loaded[r] += 1
-            min_angle[r] = min(min_angle[r], contact_angle[j])
-            max_angle[r] = max(max_angle[r], contact_angle[j])
-        elif ball_load[j] != ball_load[j]:  # nan: no valid solution
-            max_load[r] = np.nan
+        top = max_load[r]
+        count = 0
+        low = min_angle[r]
+        high = max_angle[r]
+        invalid = False
+        while j < n and ball_row[j] == r:
+            Q = ball_load[j]
+            angle = contact_angle[j]
+            loaded = Q > 0.0
+            top = Q if loaded and Q > top else top
+            count += loaded
+            low = angle if loaded and angle < low else low
+            high = angle if loaded and angle > high else high
+            invalid |= Q != Q
+            j += 1
+        max_load[r] = np.nan if invalid or max_load[r] != max_load[r] else top
+        n_loaded[r] += count
+        min_angle[r] = low
+        max_angle[r] = high
     for r in range(max_load.shape[0]):
         if n_loaded[r] == 0:
             min_angle[r] = np.nan
@@ -341,27 +357,30 @@ def curved_predictor(target, load_prev, load_prev2, q_prev, q_prev2, q, slope_pr
     if not (step2 > 0.0 and prev2 > 0.0):
         return
     r = math.sqrt(prev2 / step2)
+    # c2 + c3 = (3 a + r b) / r^2 + (2 a + r b) / r^3 (cubic) or a / r^2 (parabola): the divisions once
+    inv_r = 1.0 / r
+    inv_r2 = inv_r * inv_r
     tangent = 0.0
     bend = 0.0
     for d in range(5):
         v = q[d] - q_prev[d]
         tangent = max(tangent, abs(v))
-        bend = max(bend, abs(_bend(v, q_prev2[d] - q_prev[d], slope_prev2[d], r, slope_known)))
+        bend = max(bend, abs(_bend(v, q_prev2[d] - q_prev[d], slope_prev2[d], r, inv_r, inv_r2, slope_known)))
     if not bend <= tangent:
         return
     for d in range(5):
-        q[d] += _bend(q[d] - q_prev[d], q_prev2[d] - q_prev[d], slope_prev2[d], r, slope_known)
+        q[d] += _bend(q[d] - q_prev[d], q_prev2[d] - q_prev[d], slope_prev2[d], r, inv_r, inv_r2, slope_known)
 
 
 @njit(inline="always", error_model=ERROR_MODEL)
-def _bend(v, back, w, r, cubic):
+def _bend(v, back, w, r, inv_r, inv_r2, cubic):
     """c2 + c3 of :func:`curved_predictor` for one component: tangent step v, q_prev2 - q_prev ``back``,
-    earlier slope w (used when ``cubic``), step ratio r."""
+    earlier slope w (used when ``cubic``), step ratio r (and 1/r, 1/r^2)."""
     a = back + v * r
     if not cubic:
-        return a / (r * r)
-    b = w / r - v
-    return (3.0 * a + r * b) / (r * r) + (2.0 * a + r * b) / (r * r * r)
+        return a * inv_r2
+    b = w * inv_r - v
+    return ((3.0 * a + r * b) + (2.0 * a + r * b) * inv_r) * inv_r2
 
 
 @njit(parallel=True, cache=CACHE, error_model=ERROR_MODEL, nogil=True)

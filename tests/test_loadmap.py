@@ -413,3 +413,28 @@ def test_curved_predictors_are_one_and_two_orders_better_than_the_tangent():
     assert (np.abs(rates["cubic"][1:] - 4.0) < 0.45).all(), rates
     assert errors["parabola"][-1] < 0.05 * errors["tangent"][-1]
     assert errors["cubic"][-1] < 0.2 * errors["parabola"][-1]
+
+
+def test_row_summary_against_numpy():
+    """sweep.row_summary (the map's per-row max ball load, loaded count, contact angle range) against numpy
+    over random records: rows consecutive or interleaved, unloaded balls, a row with none loaded, nan."""
+    from fastbearing.sweep import row_summary
+
+    rng = np.random.default_rng(7)
+    for trial in range(200):
+        n_rows = int(rng.integers(1, 4))
+        rows = np.sort(rng.integers(0, n_rows, 30)) if trial % 2 else rng.integers(0, n_rows, 30)
+        load = np.where(rng.random(30) < 0.5, rng.uniform(0.0, 900.0, 30), 0.0)
+        load[rows == n_rows - 1] *= trial % 3 != 0  # every third trial: the last row carries nothing
+        angle = rng.uniform(-1.0, 1.0, 30)
+        if trial % 7 == 0:
+            load[int(rng.integers(0, 30))] = np.nan
+        out = np.empty(n_rows), np.empty(n_rows, np.int64), np.empty(n_rows), np.empty(n_rows)
+        row_summary(load, angle, rows.astype(np.int64), *out)
+        for r in range(n_rows):
+            mine, on = load[rows == r], (load > 0) & (rows == r)
+            assert np.array_equal(out[0][r], np.nan if np.isnan(mine).any() else max(mine.max(initial=0.0), 0.0),
+                                  equal_nan=True)
+            assert out[1][r] == on.sum()
+            assert np.array_equal(out[2][r], angle[on].min() if on.any() else np.nan, equal_nan=True)
+            assert np.array_equal(out[3][r], angle[on].max() if on.any() else np.nan, equal_nan=True)
