@@ -842,10 +842,36 @@ def main(argv=None) -> int:
 _COMMANDS = ("solve", "bearing", "loadmap", "passage", "plot", "paper", "shaft", "export")
 
 
+#: The commands that run kernels (and so start numba's compiler contexts).
+_KERNEL_COMMANDS = ("solve", "loadmap", "passage", "plot", "paper", "shaft")
+
+
+def start_numba_without_blas() -> None:
+    """Start numba's compiler contexts with ``scipy.linalg`` hidden: in a command's own process only.
+
+    When they start, numba looks for a BLAS (for ``np.dot`` and ``np.linalg`` in jitted code) by importing
+    scipy.linalg, which costs 0.13 s here and pulls in another 0.06 s of numpy.f2py through scipy's
+    array-API layer: a sixth of the main job's whole process. No fastbearing kernel calls a BLAS (the
+    5x5 solves are linalg.py's own), so a command process starts numba without it; scipy.linalg imports
+    as usual afterwards (the shaft's eigenvalues use it). A library user's process is left alone.
+    """
+    if "scipy.linalg" in sys.modules:
+        return  # already imported: nothing to save
+    sys.modules["scipy.linalg"] = None  # "import scipy.linalg..." raises ImportError: numba takes "no BLAS"
+    try:
+        from numba.core.registry import cpu_target
+
+        cpu_target.target_context.refresh()  # loads its registries: numba.np.arraymath looks for the BLAS
+    finally:
+        del sys.modules["scipy.linalg"]
+
+
 def entry_point() -> int:
     """main(), quiet when a reader closes the pipe early (``fastbearing solve ... | head -3``)."""
     import os
 
+    if len(sys.argv) > 1 and sys.argv[1] in _KERNEL_COMMANDS and "-h" not in sys.argv and "--help" not in sys.argv:
+        start_numba_without_blas()
     try:
         code = main()
         sys.stdout.flush()

@@ -30,6 +30,26 @@ def test_solve_json_matches_paper_table3_tandem():
     np.testing.assert_allclose(diag, [313, 38, 51, 18, 159], rtol=0.02)
 
 
+def test_a_command_process_starts_numba_without_scipy_linalg():
+    """cli.start_numba_without_blas: a command's process skips the 0.2 s of scipy.linalg that numba imports to
+    look for a BLAS (no kernel uses one), answers as before, and can still import scipy.linalg after."""
+    p = subprocess.run([sys.executable, "-X", "importtime", *CLI[1:], "solve", "--preset", "gunduz2013",
+                        "--arrangement", "DT", "--load", "1000,0,0,0,-74000", "--json"],
+                       capture_output=True, text=True, timeout=120)
+    assert p.returncode == 0, p.stderr
+    imported = {line.split("|")[-1].strip() for line in p.stderr.splitlines() if line.startswith("import time:")}
+    assert "numba.np.arraymath" in imported and "scipy.linalg" not in imported and "numpy.f2py" not in imported
+    assert json.loads(p.stdout)["converged"]
+    code = ("import fastbearing.cli as c, numba.np.arraymath as m; c.start_numba_without_blas(); "
+            "import scipy.linalg; print(m._HAVE_BLAS, scipy.linalg.eigh([[2.0]])[0][0])")
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert p.returncode == 0 and p.stdout.split() == ["True", "2.0"], p.stderr  # numba already started: no change
+    code = ("import fastbearing.cli as c; c.start_numba_without_blas(); import numba.np.arraymath as m, scipy.linalg; "
+            "print(m._HAVE_BLAS, scipy.linalg.eigh([[2.0]])[0][0])")
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert p.returncode == 0 and p.stdout.split() == ["False", "2.0"], p.stderr
+
+
 def test_negative_first_component_and_table_output(tmp_path):
     p = run("solve", "--preset", "gunduz2013", "--arrangement", "DB", "--load=-1000,0,3000,0,0")
     assert p.returncode == 0, p.stderr
