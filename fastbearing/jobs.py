@@ -364,13 +364,17 @@ def _run_here(job: Job, pending, writer, interrupt, threads) -> None:
     def compute_blocks():
         try:
             with num_threads(threads):  # numba's thread count is per calling thread
-                for block in pending:
-                    buf = writer.buffer()
+                buf, inputs = _next(job, pending, 0, writer)
+                for k, block in enumerate(pending):
                     res = buf.view(block.size)
-                    job.compute(job.cases.inputs(block.start, block.stop), res, block.start, interrupt.stop)
+                    job.compute(inputs, res, block.start, interrupt.stop)
                     if interrupt.requested:
                         break
+                    # the next block's buffer and inputs before this block goes to the writer, whose HDF5
+                    # calls hold the GIL: then the next compute starts at once
+                    following = _next(job, pending, k + 1, writer)
                     writer.submit(block, res, buf)
+                    buf, inputs = following
         except BaseException as err:  # noqa: BLE001 - handed to the main thread
             failure.append(err)
 
@@ -385,6 +389,13 @@ def _run_here(job: Job, pending, writer, interrupt, threads) -> None:
         raise failure[0]
     if interrupt.requested:
         raise KeyboardInterrupt
+
+
+def _next(job: Job, pending, k: int, writer):
+    """A free buffer and the inputs of ``pending[k]`` ((None, None) past the last block)."""
+    if k >= len(pending):
+        return None, None
+    return writer.buffer(), job.cases.inputs(pending[k].start, pending[k].stop)
 
 
 def _status_counts(pf: storage.PartFile) -> dict[int, int]:
