@@ -206,8 +206,8 @@ def _progress(total: int, initial: int, show, unit: str):
 
 
 #: About how long numba takes to compile a sweep and the solver under it on an empty cache (2 cores,
-#: measured 2026-11-23; see bench/README.md).
-COMPILE_SECONDS = 45
+#: measured 2026-11-24: 31 s for the quasi-static map, 67 s for a map over speed; see bench/README.md).
+COMPILE_SECONDS = 30
 
 
 def needs_compiling(kernel: str) -> bool:
