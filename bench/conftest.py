@@ -18,6 +18,23 @@ from numba import njit  # noqa: E402
 os.environ["PYTHONPATH"] = os.pathsep.join(
     p for p in (str(Path(fb.__file__).resolve().parents[1]), os.environ.get("PYTHONPATH")) if p)
 
+#: Source a child process's script starts with: own_peak_kb(), its own peak resident memory in kB (VmHWM;
+#: ru_maxrss survives exec, so a child forked from a large pytest process would report the parent's size).
+PEAK_RSS = """
+import resource
+
+
+def own_peak_kb():
+    try:
+        with open("/proc/self/status") as fh:
+            for line in fh:
+                if line.startswith("VmHWM:"):
+                    return int(line.split()[1])
+    except OSError:  # no /proc: ru_maxrss
+        pass
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+"""
+
 BEARING = fb.Bearing.preset("gunduz2013", "DB")
 TABLE3 = np.array([1000.0, 0.0, 0.0, 0.0, -74000.0])
 TABLE4 = np.array([1000.0, 0.0, 3000.0, 0.0, -74000.0])

@@ -19,21 +19,11 @@ import time
 
 import h5py
 import pytest
+from conftest import PEAK_RSS
 
-CHILD = """
-import json, resource, sys
+CHILD = PEAK_RSS + """
+import json, sys
 from fastbearing.loadmap import loadmap
-def own_peak_kb():
-    # VmHWM: this process's own peak (ru_maxrss survives exec, so a child forked from a large pytest
-    # process would report the parent's size); ru_maxrss where /proc is not there
-    try:
-        with open("/proc/self/status") as fh:
-            for line in fh:
-                if line.startswith("VmHWM:"):
-                    return int(line.split()[1])
-    except OSError:
-        pass
-    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
 loadmap(json.loads(sys.argv[1]), sys.argv[2], progress=False)
 print(own_peak_kb())
 """

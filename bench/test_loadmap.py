@@ -15,23 +15,13 @@ from pathlib import Path
 import pytest
 
 import fastbearing as fb
+from conftest import PEAK_RSS
 
 EXAMPLE = Path(__file__).resolve().parents[1] / "data" / "examples" / "gunduz2013-db-1M.toml"
 
-CHILD = """
-import json, resource, sys, time, tomllib
+CHILD = PEAK_RSS + """
+import json, sys, time, tomllib
 import fastbearing as fb
-def own_peak_kb():
-    # VmHWM: this process's own peak (ru_maxrss survives exec, so a child forked from a large pytest
-    # process would report the parent's size); ru_maxrss where /proc is not there
-    try:
-        with open("/proc/self/status") as fh:
-            for line in fh:
-                if line.startswith("VmHWM:"):
-                    return int(line.split()[1])
-    except OSError:
-        pass
-    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
 doc = tomllib.loads(open(sys.argv[1]).read())
 doc["loadmap"]["compression"] = sys.argv[3]
 fb.loadmap({"bearing": doc["bearing"], "loadmap": {**doc["loadmap"], "Fx": {**doc["loadmap"]["Fx"], "num": 2}}},
