@@ -28,10 +28,21 @@ ARRANGEMENT_ALIASES = {"TDO": "DB", "TDI": "DF"}
 #: Contact direction (the paper's c3) of (row at z = -e, row at z = +e).
 _DOUBLE_ROW_DIRECTIONS = {"DB": (1, -1), "DF": (-1, 1), "DT": (1, 1)}
 
-# Rows of the per-ball table the kernel reads (column j is ball j; rows are quantities).
+# Rows of the per-ball table the kernel reads (column j is ball j; rows are quantities). WEIGHT is how many
+# balls a column stands for (1, or 2 in the mirror half below) and SHARE its inverse.
 (COS_PSI, SIN_PSI, AXIAL_OFFSET, PITCH_RADIUS, UR0, UZ0, A0, KN, EXPONENT, ROW, DIRECTION, GAP2,
- DEFLECTION_LIMIT) = range(13)
-N_BALL_COLUMNS = 13
+ DEFLECTION_LIMIT, WEIGHT, SHARE) = range(15)
+N_BALL_FIELDS = 15
+#: The mirror half of the ball set (rows MIRROR_HALF + field, columns 0 .. count - 1): where every row's balls
+#: pair up across the xz-plane (psi -> -psi), one column per pair (its lower ball index, WEIGHT 2, Kn doubled)
+#: and per ball on the plane (WEIGHT 1); BALL_OF and MIRROR_OF give each column's ball and its partner (-1:
+#: none), HALF_COUNT (in every column) the number of columns, 0 where the set has no such symmetry. Under a
+#: planar displacement (dy = bx = 0) the pair's balls carry the same load, so the kernel sums this half.
+MIRROR_HALF = N_BALL_FIELDS
+BALL_OF, MIRROR_OF, HALF_COUNT = 2 * N_BALL_FIELDS, 2 * N_BALL_FIELDS + 1, 2 * N_BALL_FIELDS + 2
+N_BALL_COLUMNS = 2 * N_BALL_FIELDS + 3
+#: Two azimuths closer than this (rad) are one place (the mirror half's pairing).
+MIRROR_ANGLE_TOL = 1e-9
 
 
 #: Most balls a row may have (a sanity bound: real bearings have a few dozen).
@@ -448,7 +459,8 @@ class Bearing:
         return replace(self, rows=tuple(replace(r, **changes) for r in self.rows))
 
     def ball_table(self, cage_angle: float = 0.0) -> np.ndarray:
-        """Per-ball float64 table (13, n_balls), one row per quantity (see the column constants).
+        """Per-ball float64 table (N_BALL_COLUMNS, n_balls), one row per quantity (see the row constants),
+        then the set's mirror half (MIRROR_HALF: what a planar displacement needs).
 
         Column-major so the kernel reads each quantity contiguously and can
         vectorise over balls. ``cage_angle`` (rad) rotates every ball of every
@@ -519,11 +531,10 @@ class Bearing:
 
     def _build_ball_table(self, cage_angle: float) -> np.ndarray:
         table = np.empty((N_BALL_COLUMNS, self.n_balls))
+        azimuths = self._ball_azimuths(cage_angle)
         k = 0
-        for i, r in self.ball_rows:
+        for (i, r), psi in zip(self.ball_rows, azimuths):
             a0 = math.radians(r.contact_angle)
-            j = np.arange(r.n_balls)
-            psi = math.radians(r.first_ball_angle) + cage_angle + 2.0 * math.pi * j / r.n_balls
             sl = slice(k, k + r.n_balls)
             table[COS_PSI, sl] = np.cos(psi)
             table[SIN_PSI, sl] = np.sin(psi)
@@ -543,7 +554,15 @@ class Bearing:
             table[GAP2, sl] = (-2.0 * r.groove_center_distance * rl * math.cos(a0) + rl * rl
                                + 2.0 * r.groove_center_distance * d0 * math.sin(a0) + d0 * d0)
             k += r.n_balls
+        table[WEIGHT] = 1.0
+        table[SHARE] = 1.0
+        _fill_mirror_half(table, azimuths)
         return table
+
+    def _ball_azimuths(self, cage_angle: float) -> list[np.ndarray]:
+        """Each ball row's azimuths psi (rad), as the table places them."""
+        return [math.radians(r.first_ball_angle) + cage_angle + 2.0 * math.pi * np.arange(r.n_balls) / r.n_balls
+                for _, r in self.ball_rows]
 
     def describe(self) -> str:
         """One line per row, for reports and HDF5 provenance."""
@@ -568,6 +587,41 @@ class Bearing:
         return {"name": self.name, "arrangement": self.arrangement,
                 "rows": [{f.name: getattr(r, f.name) for f in fields(r) if getattr(r, f.name) is not None}
                          for r in self.rows]}
+
+
+def _fill_mirror_half(table: np.ndarray, azimuths: list[np.ndarray]) -> None:
+    """Fill the table's mirror half (rows MIRROR_HALF + field, BALL_OF, MIRROR_OF, HALF_COUNT) from its full
+    rows: every ball row must map onto itself under psi -> -psi (its balls identical, as a row's are), else
+    HALF_COUNT is 0 and the kernel always sums every ball."""
+    table[MIRROR_HALF:] = 0.0
+    columns = []  # (ball, partner or -1)
+    start = 0
+    for psi in azimuths:
+        n = psi.shape[0]
+        # distance of -psi_j from each psi_i, wrapped to (-pi, pi]
+        gap = np.angle(np.exp(1j * (psi[None, :] + psi[:, None])))
+        for j in range(n):
+            match = np.flatnonzero(np.abs(gap[j]) < MIRROR_ANGLE_TOL)
+            if match.size != 1:
+                return  # this row has no mirror image of ball j: no symmetry to use
+            m = int(match[0])
+            if m == j:
+                columns.append((start + j, -1))
+            elif j < m:
+                columns.append((start + j, start + m))
+        start += n
+    for k, (j, m) in enumerate(columns):
+        table[MIRROR_HALF:MIRROR_HALF + N_BALL_FIELDS, k] = table[:N_BALL_FIELDS, j]
+        if m < 0:  # on the plane: exactly, so that the pair sums' odd terms vanish
+            table[MIRROR_HALF + COS_PSI, k] = math.copysign(1.0, table[COS_PSI, j])
+            table[MIRROR_HALF + SIN_PSI, k] = 0.0
+        else:
+            table[MIRROR_HALF + KN, k] *= 2.0
+            table[MIRROR_HALF + WEIGHT, k] = 2.0
+            table[MIRROR_HALF + SHARE, k] = 0.5
+        table[BALL_OF, k] = j
+        table[MIRROR_OF, k] = m
+    table[HALF_COUNT] = len(columns)
 
 
 ROW_KEYS = tuple(f.name for f in fields(Row))

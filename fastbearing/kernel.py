@@ -18,6 +18,8 @@ import math
 from numba import njit, types
 from numba.extending import overload
 
+from .bearing import (A0, AXIAL_OFFSET, BALL_OF, COS_PSI, DEFLECTION_LIMIT, DIRECTION, EXPONENT, GAP2, HALF_COUNT, KN,
+                      MIRROR_HALF, MIRROR_OF, PITCH_RADIUS, SHARE, SIN_PSI, UR0, UZ0, WEIGHT)
 from .config import CACHE, ERROR_MODEL, KERNEL_FASTMATH, REFCOUNT
 from .deflection import smoothed_deflection
 from .high_speed import spinning_balls
@@ -29,8 +31,9 @@ from .trig import atan2
 ZERO_SUMS = (0.0,) * 19
 
 
-def contact_law(delta, kn, exponent, j):
-    """Ball load Q = Kn*delta^n and its slope dQ/d(delta) (N, N/mm) for ball j."""
+def contact_law(delta, kn, exponent, n):
+    """Ball load Q = Kn*delta^n and its slope dQ/d(delta) (N, N/mm): n = 1.5 (a sqrt) where ``exponent`` is
+    None (every ball Hertzian), else the ball's own exponent ``n``."""
 
 
 def clamped_deflection(d, smoothing):
@@ -56,16 +59,15 @@ def _clamped_deflection(d, smoothing):
 
 
 @overload(contact_law, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
-def _contact_law(delta, kn, exponent, j):
+def _contact_law(delta, kn, exponent, n):
     # chosen while typing, from the exponent's type: no branch in the ball loop
     if isinstance(exponent, types.NoneType):
-        def hertz(delta, kn, exponent, j):
+        def hertz(delta, kn, exponent, n):
             root = math.sqrt(delta)  # n = 1.5: sqrt instead of pow
             return kn * delta * root, 1.5 * kn * root
         return hertz
 
-    def power_law(delta, kn, exponent, j):
-        n = exponent[j]
+    def power_law(delta, kn, exponent, n):
         return kn * delta ** n, n * kn * delta ** (n - 1.0)
     return power_law
 
@@ -146,7 +148,7 @@ def ball_loop(q, balls, f, K, ball_load, contact_angle):
     q : (5,) float64
         (dx, dy, dz, bx, by) in mm and rad at the bearing centre.
     balls : tuple (table, exponent, smoothing, slices, speed_table, omega, warm)
-        ``table`` (13, n_balls) float64, column-major per-ball data from
+        ``table`` (bearing.N_BALL_COLUMNS, n_balls) float64, column-major per-ball data from
         :meth:`fastbearing.Bearing.ball_set`; ``exponent`` None (all balls
         n = 1.5) or (n_balls,) float64 per-ball exponents; ``smoothing``
         None (the exact contact law) or eps in mm (see
@@ -273,18 +275,49 @@ def _smoothing_eps(smoothing):
 @njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
 def quasi_static_balls(q, table, exponent, smoothing, f, K, ball_load, contact_angle):
     """The quasi-static ball loop (docs/model.md, "Per ball (row r, ball j at azimuth psi)"): writes f
-    and Kb, returns (total load N, loaded balls, warning bits)."""
-    cos_psi = table[0]
-    sin_psi = table[1]
-    offset = table[2]
-    radius = table[3]
-    ur0 = table[4]
-    uz0 = table[5]
-    a0 = table[6]
-    kn = table[7]
-    direction = table[10]
-    gap = table[11]
-    limit = table[12]
+    and Kb, returns (total load N, loaded balls, warning bits).
+
+    Under a planar displacement (dy = bx = 0, the loads Fx, Fz, My alone) a ball set that is its own mirror
+    image across the xz-plane loads a ball and its mirror image alike: the loop then sums the table's mirror
+    half (bearing.MIRROR_HALF: each pair once with its load doubled) and the terms odd in y (Fy, Mx and the
+    Kb entries coupling y, tx to x, z, ty) are exactly zero, as the symmetry makes them. 16 of the
+    example's 28 balls, for the same answer to rounding."""
+    n_half = int(table[HALF_COUNT, 0]) if table.shape[1] > 0 else 0
+    if n_half > 0 and q[1] == 0.0 and q[3] == 0.0:
+        acc, total, n_loaded, warnings = ball_sums(q, table, MIRROR_HALF, n_half, exponent, smoothing, K, ball_load,
+                                                   contact_angle)
+        (f0, f1, f2, f3, f4, k00, k01, k02, k03, k04, k11, k12, k13, k22, k23, k24, k33, k34, k44) = acc
+        acc = (f0, 0.0, f2, 0.0, f4, k00, 0.0, k02, 0.0, k04, k11, 0.0, k13, k22, 0.0, k24, k33, 0.0, k44)
+        if ball_load is not None:
+            spread_mirror_record(table, n_half, ball_load, contact_angle)
+    else:
+        acc, total, n_loaded, warnings = ball_sums(q, table, 0, table.shape[1], exponent, smoothing, K, ball_load,
+                                                   contact_angle)
+    _store(acc, f, K, False)
+    return total, n_loaded, warnings
+
+
+@njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
+def ball_sums(q, table, base, n, exponent, smoothing, K, ball_load, contact_angle):
+    """The ball loop over columns 0 .. n-1 of the table's block at row ``base`` (0: every ball; MIRROR_HALF:
+    the mirror half, whose columns stand for WEIGHT balls each; ``exponent`` None: every ball Hertzian, else
+    the block's EXPONENT row is read): (the sums of f and Kb as
+    :func:`_add_contact` keeps them, total load N, loaded balls, warning bits). The record (``ball_load``
+    not None) goes to the columns' places, one ball's load each (SHARE of the column's)."""
+    cos_psi = table[base + COS_PSI]
+    sin_psi = table[base + SIN_PSI]
+    offset = table[base + AXIAL_OFFSET]
+    radius = table[base + PITCH_RADIUS]
+    ur0 = table[base + UR0]
+    uz0 = table[base + UZ0]
+    a0 = table[base + A0]
+    kn = table[base + KN]
+    direction = table[base + DIRECTION]
+    gap = table[base + GAP2]
+    limit = table[base + DEFLECTION_LIMIT]
+    weight = table[base + WEIGHT]
+    share = table[base + SHARE]
+    power = table[base + EXPONENT]
     dx = q[0]
     dy = q[1]
     dz = q[2]
@@ -292,10 +325,10 @@ def quasi_static_balls(q, table, exponent, smoothing, f, K, ball_load, contact_a
     by = q[4]
     acc = ZERO_SUMS
     total = 0.0
-    n_loaded = 0
+    count = 0.0
     n_reversed = 0
     n_beyond = 0
-    for j in range(table.shape[1]):
+    for j in range(n):
         c = cos_psi[j]
         s = sin_psi[j]
         z = offset[j]
@@ -311,14 +344,14 @@ def quasi_static_balls(q, table, exponent, smoothing, f, K, ball_load, contact_a
         A_plus = A + a0[j]
         inv = 1.0 / max(A * A_plus, 1e-300)  # one division gives both 1/A and 1/(A + A0)
         delta, slope = clamped_deflection(gap2 * (A * inv), smoothing)
-        Q, dQ = contact_law(delta, kn[j], exponent, j)
+        Q, dQ = contact_law(delta, kn[j], exponent, power[j])
         dQ *= slope
         loaded = delta > 0.0
-        n_loaded += loaded
+        count += weight[j] * loaded
         n_reversed += loaded & (direction[j] * uz < 0.0)
         n_beyond += delta > limit[j]
         if ball_load is not None:
-            ball_load[j] = Q
+            ball_load[j] = Q * share[j]
             contact_angle[j] = atan2(direction[j] * uz, ur)
         total += Q
         inv_a = A_plus * inv
@@ -331,11 +364,25 @@ def quasi_static_balls(q, table, exponent, smoothing, f, K, ball_load, contact_a
             acc = _add_contact(acc, c, s, z, R, g * ur, g * uz, g + dq * hr * hr, dq * hr * hz, g + dq * hz * hz)
         else:
             acc = _add_load(acc, c, s, z, R, g * ur, g * uz)
-    _store(acc, f, K, False)
     warnings = (CONTACT_REVERSED if n_reversed > 0 else 0) | (BEYOND_VALIDITY if n_beyond > 0 else 0)
-    return total, n_loaded, warnings
+    return acc, total, int(count), warnings
 
 
+@njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
+def spread_mirror_record(table, n_half, ball_load, contact_angle):
+    """Move the record of the mirror half's columns (written at places 0 .. n_half-1) to their balls and
+    the balls' mirror images. From the last column down: a column's ball and partner are never below its
+    own place, so nothing unread is overwritten."""
+    for k in range(n_half - 1, -1, -1):
+        Q = ball_load[k]
+        angle = contact_angle[k]
+        j = int(table[BALL_OF, k])
+        m = int(table[MIRROR_OF, k])
+        ball_load[j] = Q
+        contact_angle[j] = angle
+        if m >= 0:
+            ball_load[m] = Q
+            contact_angle[m] = angle
 
 
 @njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
