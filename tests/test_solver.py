@@ -273,3 +273,32 @@ def test_the_stiffness_solve_takes_ldl_for_a_symmetric_kb_and_lu_for_kb_at_speed
     assert not np.array_equal(K, K.T)  # why LU: Kb at speed is not symmetric
     assert stiffness_solve(K, 0.0, b, x, L, perm)
     assert np.allclose(K @ x, b, rtol=1e-10, atol=1e-12 * np.abs(b).max())
+
+
+def test_the_stiffness_solve_of_a_planar_kb_splits_into_two_factors():
+    """A Kb without the couplings of (y, tx) to (x, z, ty) (a planar displacement of a mirror-symmetric
+    ball set) is factored as two independent blocks (linalg._split_ldl_solve): against numpy.linalg.solve,
+    shift included, every pivot of both blocks checked."""
+    from fastbearing.linalg import stiffness_solve
+
+    rng = np.random.default_rng(5)
+    even, odd = [0, 2, 4], [1, 3]
+    x, L, perm = np.empty(5), np.empty((5, 5)), np.empty(5)
+    for _ in range(20):
+        spd = np.zeros((5, 5))
+        for block in (even, odd):
+            M = rng.standard_normal((len(block), len(block)))
+            spd[np.ix_(block, block)] = M @ M.T + np.eye(len(block))
+        b = rng.standard_normal(5)
+        for shift in (0.0, 0.3):
+            assert stiffness_solve(spd, shift, b, x, L, perm)
+            assert np.allclose(x, np.linalg.solve(spd + shift * np.eye(5), b), rtol=1e-12, atol=1e-14)
+    for k in range(5):  # each pivot: the matrix positive definite up to its own row k only
+        A = spd.copy()
+        block = even if k in even else odd
+        i = block.index(k)
+        head = block[:i]
+        A[k, k] = (A[k, head] @ np.linalg.solve(spd[np.ix_(head, head)], A[head, k]) if head else 0.0) - 1e-3
+        assert not stiffness_solve(A, 0.0, b, x, L, perm), k
+        A[k, k] = np.nan
+        assert not stiffness_solve(A, 0.0, b, x, L, perm), k
