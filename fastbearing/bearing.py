@@ -35,8 +35,8 @@ _DOUBLE_ROW_DIRECTIONS = {"DB": (1, -1), "DF": (-1, 1), "DT": (1, 1)}
 N_BALL_FIELDS = 15
 #: The mirror half of the ball set (rows MIRROR_HALF + field, columns 0 .. count - 1): where every row's balls
 #: pair up across the xz-plane (psi -> -psi), one column per pair (its lower ball index, WEIGHT 2, Kn doubled)
-#: and per ball on the plane (WEIGHT 1); BALL_OF and MIRROR_OF give each column's ball and its partner (-1:
-#: none), HALF_COUNT (in every column) the number of columns, 0 where the set has no such symmetry. Under a
+#: and per ball on the plane (WEIGHT 1); BALL_OF and MIRROR_OF give each column's ball and its image (the
+#: ball itself on the plane), HALF_COUNT (in every column) the number of columns, 0 where the set has no such symmetry. Under a
 #: planar displacement (dy = bx = 0) the pair's balls carry the same load, so the kernel sums this half.
 MIRROR_HALF = N_BALL_FIELDS
 BALL_OF, MIRROR_OF, HALF_COUNT = 2 * N_BALL_FIELDS, 2 * N_BALL_FIELDS + 1, 2 * N_BALL_FIELDS + 2
@@ -594,7 +594,7 @@ def _fill_mirror_half(table: np.ndarray, azimuths: list[np.ndarray]) -> None:
     rows: every ball row must map onto itself under psi -> -psi (its balls identical, as a row's are), else
     HALF_COUNT is 0 and the kernel always sums every ball."""
     table[MIRROR_HALF:] = 0.0
-    columns = []  # (ball, partner or -1)
+    columns = []  # (ball, its image or -1 on the plane)
     start = 0
     for psi in azimuths:
         n = psi.shape[0]
@@ -620,7 +620,7 @@ def _fill_mirror_half(table: np.ndarray, azimuths: list[np.ndarray]) -> None:
             table[MIRROR_HALF + WEIGHT, k] = 2.0
             table[MIRROR_HALF + SHARE, k] = 0.5
         table[BALL_OF, k] = j
-        table[MIRROR_OF, k] = m
+        table[MIRROR_OF, k] = j if m < 0 else m
     table[HALF_COUNT] = len(columns)
 
 

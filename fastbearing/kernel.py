@@ -371,7 +371,7 @@ def ball_sums(q, table, base, n, exponent, smoothing, K, ball_load, contact_angl
 @njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
 def spread_mirror_record(table, n_half, ball_load, contact_angle):
     """Move the record of the mirror half's columns (written at places 0 .. n_half-1) to their balls and
-    the balls' mirror images. From the last column down: a column's ball and partner are never below its
+    the balls' mirror images (MIRROR_OF; a ball on the plane is its own). From the last column down: a column's ball and partner are never below its
     own place, so nothing unread is overwritten."""
     for k in range(n_half - 1, -1, -1):
         Q = ball_load[k]
@@ -380,9 +380,8 @@ def spread_mirror_record(table, n_half, ball_load, contact_angle):
         m = int(table[MIRROR_OF, k])
         ball_load[j] = Q
         contact_angle[j] = angle
-        if m >= 0:
-            ball_load[m] = Q
-            contact_angle[m] = angle
+        ball_load[m] = Q  # a ball on the plane is its own image: the same place again
+        contact_angle[m] = angle
 
 
 @njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)

@@ -61,10 +61,10 @@ def test_mirror_half_pairs_each_ball_with_its_image():
         assert count == n // 14 * 8  # psi = 0 and pi on the plane, six pairs per row
         balls = table[BALL_OF, :count].astype(int)
         mirrors = table[MIRROR_OF, :count].astype(int)
-        covered = sorted(list(balls) + [m for m in mirrors if m >= 0])
+        covered = sorted(list(balls) + [m for j, m in zip(balls, mirrors) if m != j])
         assert covered == list(range(n))  # every ball once
         for j, m, w in zip(balls, mirrors, table[MIRROR_HALF + WEIGHT, :count]):
-            if m < 0:
+            if m == j:  # on the plane: its own image
                 assert w == 1.0 and abs(table[SIN_PSI, j]) < 1e-12
             else:
                 assert w == 2.0 and m > j
