@@ -428,7 +428,7 @@ def _shaft(args) -> int:
 def _matrix(title, K) -> str:
     labels = ("x", "y", "z", "tx", "ty")
     lines = [f"{title} ({_K_UNITS}):", "      " + "".join(f"{n:>14s}" for n in labels)]
-    for name, row in zip(labels, np.asarray(K)):
+    for name, row in zip(labels, np.asarray(K) + 0.0):  # + 0.0: an exact zero coupling shows as 0, not -0
         lines.append(f"{name:>4s}  " + "".join(f"{v:14.6g}" for v in row))
     return "\n".join(lines)
 
@@ -684,16 +684,11 @@ def _rollers_text(records: list[dict]) -> str:
 
 
 def _table(result: dict) -> str:
-    labels = ("x", "y", "z", "tx", "ty")
-    K = np.asarray(result["K"])
     lines = [f"status: {result['status']}  iterations: {result['iterations']}  residual: {result['residual']:.2e}"
              + (f"  speed: {result['speed']:g} rpm (high-speed model)" if result.get("speed") else ""),
              "q (mm, mm, mm, rad, rad): " + "  ".join(f"{n}={v:.6g}" for n, v in zip(DISPLACEMENT_NAMES, result["q"])),
              "f (N, N, N, N*mm, N*mm): " + "  ".join(f"{n}={v:.6g}" for n, v in zip(LOAD_NAMES, result["f"])),
-             "Kb (" + _K_UNITS + "):",
-             "      " + "".join(f"{name:>14s}" for name in labels)]
-    for name, row in zip(labels, K):
-        lines.append(f"{name:>4s}  " + "".join(f"{v:14.6g}" for v in row))
+             _matrix("Kb", result["K"])]
     if "beyond_validity" in str(result["status"]):
         lines.append("warning: beyond_validity: a ball's deflection exceeds its row's validity limit (the Hertz "
                      "pressure limit, 4200 N/mm^2 by default, or 0.15 A0); the equations are solved, but small "
