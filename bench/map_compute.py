@@ -1,11 +1,12 @@
 """Not a benchmark: the shipped 1M example's compute alone (no HDF5), as the load map runs it.
 
-    python bench/map_compute.py [n_cases] [threads] [rounds]
+    python bench/map_compute.py [n_cases] [threads] [rounds] [Fy]
 
 Runs ``loadmap.compute_block`` (the map's work unit) on the first ``n_cases`` cases (default 198 000,
 2000 lines of 99) in one block, once to load the kernels, then ``rounds`` times, and prints the time
-per case (us; median and minimum), Newton iterations per case and the statuses. Quoted in
-bench/README.md (issue 16).
+per case (us; median and minimum), Newton iterations per case and the statuses. ``Fy`` (N, default 0)
+added to every case takes the map off the xz-plane: the kernel then sums every ball, not the mirror half.
+Quoted in bench/README.md (issue 16).
 """
 
 import importlib
@@ -19,13 +20,14 @@ import numba
 EXAMPLE = Path(__file__).resolve().parents[1] / "data" / "examples" / "gunduz2013-db-1M.toml"
 
 
-def main(n=198_000, threads=1, rounds=5):
+def main(n=198_000, threads=1, rounds=5, fy=0):
     numba.set_num_threads(threads)
     loadmap = importlib.import_module("fastbearing.loadmap")
     jobs = importlib.import_module("fastbearing.jobs")
     cfg = loadmap.read_config(EXAMPLE)
     job = loadmap.job(cfg)
     inputs = cfg.cases.inputs(0, n)
+    inputs[:, 1] += fy
     buf = jobs.Buffers(list(job.variables), job.sizes, n)
     stop = np.zeros(1, np.int64)
     job.compute(inputs, buf.view(n), 0, stop)  # loads (or compiles) the kernels
@@ -41,4 +43,4 @@ def main(n=198_000, threads=1, rounds=5):
 
 
 if __name__ == "__main__":
-    main(*(int(a) for a in sys.argv[1:4]))
+    main(*(int(a) for a in sys.argv[1:5]))

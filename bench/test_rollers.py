@@ -21,7 +21,8 @@ EVALS_PER_ROUND = 200
 @pytest.mark.benchmark(group="kernel per contact: roller slices against balls")
 def test_kernel_per_contact(benchmark, bearing):
     b = TDO if bearing.startswith("30206") else BEARING
-    load = [4000.0, 0.0, 1500.0, 0.0, 0.0] if b is TDO else [1000.0, 0.0, 3000.0, 0.0, -74000.0]
+    # the balls off the xz-plane (Fy, Mx): the kernel sums every ball, as it does every roller slice
+    load = [4000.0, 0.0, 1500.0, 0.0, 0.0] if b is TDO else [1000.0, 300.0, 3000.0, 5000.0, -74000.0]
     q = fb.solve(b, load).q.copy()
     balls = b.ball_set()
     contacts = b.n_balls + b.slice_table().shape[1]

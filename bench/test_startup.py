@@ -48,6 +48,34 @@ def test_numba_floor(benchmark, tmp_path):
     benchmark.pedantic(run, rounds=3)
 
 
+ONE_CASE_MAP = """[bearing]
+preset = "gunduz2013"
+arrangement = "DB"
+
+[loadmap]
+given = "load"
+Fx = 1000.0
+Fz = 3000.0
+My = -74000.0
+"""
+
+
+@pytest.mark.benchmark(group="start-up to the first solve, whole process")
+def test_command_startup(benchmark, tmp_path):
+    """The command line's way to a first solve: `fastbearing loadmap` of a one-case map, the whole process
+    (start-up, the solve, its HDF5 file written and closed, exit), warm cache."""
+    config = tmp_path / "one.toml"
+    config.write_text(ONE_CASE_MAP)
+    command = [sys.executable, "-c", "import sys; from fastbearing.cli import entry_point; sys.exit(entry_point())",
+               "loadmap", str(config), "-o", str(tmp_path / "one.h5"), "--overwrite", "--no-progress"]
+
+    def run():
+        subprocess.run(command, check=True, timeout=300, capture_output=True)
+
+    run()  # fill the cache (the map sweep compiles once)
+    benchmark.pedantic(run, rounds=5)
+
+
 @pytest.mark.benchmark(group="start-up: fastbearing --help, whole process")
 def test_help(benchmark):
     """The command line's parser loads no numba, scipy or h5py (the package's names load on first use)."""
