@@ -1,7 +1,7 @@
 """The kernel's mirror half: under a planar displacement (dy = bx = 0) a ball set that is its own mirror image
 across the xz-plane is summed over one ball of each mirror pair (kernel.quasi_static_balls). It must give
 what the printed equations give over every ball, what the full loop gives to rounding, and y-odd terms that
-are exactly zero (docs/model.md, "Checks": mirror symmetry)."""
+are exactly zero (docs/model.md, "Mirror symmetry")."""
 
 import math
 
