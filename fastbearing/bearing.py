@@ -592,35 +592,37 @@ class Bearing:
 def _fill_mirror_half(table: np.ndarray, azimuths: list[np.ndarray]) -> None:
     """Fill the table's mirror half (rows MIRROR_HALF + field, BALL_OF, MIRROR_OF, HALF_COUNT) from its full
     rows: every ball row must map onto itself under psi -> -psi (its balls identical, as a row's are), else
-    HALF_COUNT is 0 and the kernel always sums every ball."""
+    HALF_COUNT is 0 and the kernel always sums every ball.
+
+    A row's balls sit at psi_j = theta + 2 pi j / Z; -psi_j is a ball's place exactly when theta is a
+    multiple k pi / Z, and then it is ball m = -(j + k) mod Z's (O(Z), for rows of any size)."""
     table[MIRROR_HALF:] = 0.0
-    columns = []  # (ball, its image or -1 on the plane)
+    columns = []  # (ball, its image: itself on the plane)
     start = 0
     for psi in azimuths:
         n = psi.shape[0]
-        # distance of -psi_j from each psi_i, wrapped to (-pi, pi]
-        gap = np.angle(np.exp(1j * (psi[None, :] + psi[:, None])))
+        if n == 0:
+            continue
+        theta = float(psi[0])
+        k = round(theta * n / math.pi)
+        if abs(theta - k * math.pi / n) > MIRROR_ANGLE_TOL:
+            return  # this row is not its own mirror image: no symmetry to use
         for j in range(n):
-            match = np.flatnonzero(np.abs(gap[j]) < MIRROR_ANGLE_TOL)
-            if match.size != 1:
-                return  # this row has no mirror image of ball j: no symmetry to use
-            m = int(match[0])
-            if m == j:
-                columns.append((start + j, -1))
-            elif j < m:
+            m = (-(j + k)) % n
+            if j <= m:
                 columns.append((start + j, start + m))
         start += n
-    for k, (j, m) in enumerate(columns):
-        table[MIRROR_HALF:MIRROR_HALF + N_BALL_FIELDS, k] = table[:N_BALL_FIELDS, j]
-        if m < 0:  # on the plane: exactly, so that the pair sums' odd terms vanish
-            table[MIRROR_HALF + COS_PSI, k] = math.copysign(1.0, table[COS_PSI, j])
-            table[MIRROR_HALF + SIN_PSI, k] = 0.0
+    for c, (j, m) in enumerate(columns):
+        table[MIRROR_HALF:MIRROR_HALF + N_BALL_FIELDS, c] = table[:N_BALL_FIELDS, j]
+        if m == j:  # on the plane: exactly, so that the y-odd terms vanish
+            table[MIRROR_HALF + COS_PSI, c] = math.copysign(1.0, table[COS_PSI, j])
+            table[MIRROR_HALF + SIN_PSI, c] = 0.0
         else:
-            table[MIRROR_HALF + KN, k] *= 2.0
-            table[MIRROR_HALF + WEIGHT, k] = 2.0
-            table[MIRROR_HALF + SHARE, k] = 0.5
-        table[BALL_OF, k] = j
-        table[MIRROR_OF, k] = j if m < 0 else m
+            table[MIRROR_HALF + KN, c] *= 2.0
+            table[MIRROR_HALF + WEIGHT, c] = 2.0
+            table[MIRROR_HALF + SHARE, c] = 0.5
+        table[BALL_OF, c] = j
+        table[MIRROR_OF, c] = m
     table[HALF_COUNT] = len(columns)
 
 

@@ -72,6 +72,21 @@ def test_mirror_half_pairs_each_ball_with_its_image():
                 assert table[SIN_PSI, m] == pytest.approx(-table[SIN_PSI, j], abs=1e-12)
 
 
+@pytest.mark.parametrize("n_balls, k", [(1, 0), (2, 1), (7, 3), (13, 20), (14, 5), (200, 7)])
+def test_mirror_half_pairs_any_row_turned_by_a_multiple_of_pi_over_z(n_balls, k):
+    """First ball at k*180/Z degrees: every ball's image is a ball of the row, and the table pairs them."""
+    bearing = fb.Bearing.preset("gunduz2013", "DT", n_balls=n_balls, first_ball_angle=k * 180.0 / n_balls)
+    table = bearing.ball_table()
+    count = int(table[HALF_COUNT, 0])
+    assert count > 0
+    balls = table[BALL_OF, :count].astype(int)
+    mirrors = table[MIRROR_OF, :count].astype(int)
+    assert sorted(set(balls) | set(mirrors)) == list(range(2 * n_balls))
+    for j, m in zip(balls, mirrors):
+        assert table[COS_PSI, m] == pytest.approx(table[COS_PSI, j], abs=1e-9)
+        assert table[SIN_PSI, m] == pytest.approx(-table[SIN_PSI, j], abs=1e-9)
+
+
 def test_mirror_half_only_where_the_set_is_symmetric():
     bearing = fb.Bearing.preset("gunduz2013", "DB")
     assert bearing.ball_table(math.pi / 14)[HALF_COUNT, 0] == 14  # half a pitch on: seven pairs per row
