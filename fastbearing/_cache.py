@@ -12,9 +12,9 @@ import hashlib
 from pathlib import Path
 
 _PACKAGE = Path(__file__).parent
-#: Modules holding @njit code (and the constants it compiles in).
+#: Modules holding @njit code (and the constants it compiles in: bearing.py's ball-table rows).
 KERNEL_MODULES = ("config.py", "status.py", "roots.py", "trig.py", "deflection.py", "high_speed.py", "kernel.py",
-                  "linalg.py", "solver.py", "sweep.py")
+                  "linalg.py", "solver.py", "sweep.py", "bearing.py")
 _STAMP_NAME = "fastbearing-numba-cache.stamp"
 
 

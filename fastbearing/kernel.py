@@ -150,7 +150,8 @@ def ball_loop(q, balls, f, K, ball_load, contact_angle):
     balls : tuple (table, exponent, smoothing, slices, speed_table, omega, warm)
         ``table`` (bearing.N_BALL_COLUMNS, n_balls) float64, column-major per-ball data from
         :meth:`fastbearing.Bearing.ball_set`; ``exponent`` None (all balls
-        n = 1.5) or (n_balls,) float64 per-ball exponents; ``smoothing``
+        n = 1.5) or (n_balls,) float64 per-ball exponents (which picks the
+        power law; the loop reads each column's n from the table); ``smoothing``
         None (the exact contact law) or eps in mm (see
         :func:`clamped_deflection`); ``slices`` (14, n_slices) the roller
         slices (rollers.slice_table; None for a ball bearing), added
