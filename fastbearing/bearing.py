@@ -36,12 +36,13 @@ N_BALL_FIELDS = 15
 #: The mirror half of the ball set (rows MIRROR_HALF + field, columns 0 .. count - 1): where every row's balls
 #: pair up across the xz-plane (psi -> -psi), one column per pair (its lower ball index, WEIGHT 2, Kn doubled)
 #: and per ball on the plane (WEIGHT 1); BALL_OF and MIRROR_OF give each column's ball and its image (the
-#: ball itself on the plane), HALF_COUNT (in every column) the number of columns, 0 where the set has no such symmetry. Under a
-#: planar displacement (dy = bx = 0) the pair's balls carry the same load, so the kernel sums this half.
+#: ball itself on the plane), HALF_COUNT (in every column) the number of columns, 0 where the set has no
+#: such symmetry. Under a planar displacement (dy = bx = 0) a pair's balls carry the same load, so the
+#: kernel sums this half.
 MIRROR_HALF = N_BALL_FIELDS
 BALL_OF, MIRROR_OF, HALF_COUNT = 2 * N_BALL_FIELDS, 2 * N_BALL_FIELDS + 1, 2 * N_BALL_FIELDS + 2
 N_BALL_COLUMNS = 2 * N_BALL_FIELDS + 3
-#: Two azimuths closer than this (rad) are one place (the mirror half's pairing).
+#: How close (rad) a row's first ball must sit to a multiple of pi / Z for the row to be its own mirror image.
 MIRROR_ANGLE_TOL = 1e-9
 
 

@@ -372,8 +372,8 @@ def ball_sums(q, table, base, n, exponent, smoothing, K, ball_load, contact_angl
 @njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
 def spread_mirror_record(table, n_half, ball_load, contact_angle):
     """Move the record of the mirror half's columns (written at places 0 .. n_half-1) to their balls and
-    the balls' mirror images (MIRROR_OF; a ball on the plane is its own). From the last column down: a column's ball and partner are never below its
-    own place, so nothing unread is overwritten."""
+    the balls' mirror images (MIRROR_OF; a ball on the plane is its own). From the last column down: a
+    column's ball and image are never below its own place, so nothing unread is overwritten."""
     for k in range(n_half - 1, -1, -1):
         Q = ball_load[k]
         angle = contact_angle[k]

@@ -93,7 +93,8 @@ def _split_ldl_solve(a00, a11, a20, a22, a31, a33, a40, a42, a44, b, x):
     """:func:`ldl_solve` of a Kb without the entries that couple (y, tx) to (x, z, ty) (a planar
     displacement of a mirror-symmetric ball set, kernel.quasi_static_balls): two independent factors, of
     three and two pivots, whose division chains overlap instead of running one after the other. The
-    same operations as the 5x5 factor less its products with exact zeros: the same x, bit for bit."""
+    same operations as the 5x5 factor less its products with exact zeros (x - 0 * y is x for a finite y),
+    so the same x. Written out like ldl_solve, for the same reason: the factor stays in registers."""
     if not (a00 > 0.0 and a11 > 0.0):
         return False
     i0 = 1.0 / a00
