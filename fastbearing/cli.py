@@ -703,6 +703,9 @@ def _solve(args) -> int:
     bearing = _bearing(args)
     if not args.life and (args.kappa is not None or args.rotating != "inner" or args.contamination != 1.0):
         raise ValueError("--rotating, --kappa and --contamination go with --life")
+    if args.contamination != 1.0 and args.kappa is None:
+        raise ValueError("--contamination goes with --kappa (e_C enters only a_ISO, which needs the viscosity "
+                         "ratio kappa in [0.1, 4])")
     from .bearing import check_speed_model
 
     def check_model():

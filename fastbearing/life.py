@@ -28,7 +28,7 @@ standards themselves are not public):
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -361,6 +361,9 @@ class LifeSettings:
             object.__setattr__(self, "kappa", validate.number(self.kappa, "kappa", low=0.1, high=4.0))
         object.__setattr__(self, "contamination", validate.number(self.contamination, "contamination", low=0.0,
                                                                   high=1.0))
+        if self.kappa is None and self.contamination != 1.0:  # e_C enters only a_ISO, which needs kappa
+            raise validate.FieldError("contamination", "goes with kappa (e_C enters only a_ISO, which needs the "
+                                      "viscosity ratio kappa in [0.1, 4])", self.contamination)
 
 
 @dataclass(frozen=True)
@@ -532,22 +535,78 @@ class LifeResult:
         return out
 
 
+#: How closely a given q must carry the load for :func:`rating_life` to rate it: the largest scaled
+#: residual (moments divided by the bearing's length scale) relative to the load's largest component. Any
+#: q that a solve reports converged (default rtol 1e-10) passes; a q from another load does not.
+Q_LOAD_RTOL = 1e-6
+
+
 def rating_life(bearing, load, *, q=None, rotating: str = "inner", speed=None, kappa=None,
                 contamination: float = 1.0) -> LifeResult:
     """Rating life of ``bearing`` under ``load`` (Fx, Fy, Fz, Mx, My in N, N*mm): ISO 281 C, P, L10,
-    ISO/TS 16281 L10r per row and of the bearing (million revolutions; hours with ``speed`` in rpm),
-    static safety and, with ``kappa``, a_ISO and L_nmr. ``q`` (mm, rad) is the solved displacement
-    (solved here when not given). Needs ``[bearing.geometry]``; ValueError names any bad field."""
+    ISO/TS 16281 L10r per row and of the bearing (million revolutions; hours with ``speed``), static
+    safety and, with ``kappa``, a_ISO and L_nmr. Needs ``[bearing.geometry]``; ValueError names any bad
+    field.
+
+    ``speed`` (rpm, > 0) is the shaft speed, one answer with ``fastbearing solve --life --speed``: ball
+    rows are solved with the high-speed model at it (centrifugal force, gyroscopic moment), each ring
+    rated from its own contacts; roller rows have no high-speed model, so they are solved quasi-statically
+    (said in ``notes``). Lives in hours at that speed too. ``q`` (mm, rad) is the displacement solved at
+    that speed; solved here when not given, and refused unless it is finite and carries ``load`` (within
+    Q_LOAD_RTOL)."""
+    from .api import _as_vector
+
+    load = _as_vector(load, "load", "N, N*mm")
     settings = LifeSettings(rotating=rotating, speed=speed, kappa=kappa, contamination=contamination)
     ratings(bearing)
+    notes = []
+    model_speed = 0.0
+    if settings.speed is not None:
+        if bearing.roller_rows:
+            notes.append("the high-speed model covers ball rows; roller rows are solved quasi-statically and "
+                         "the speed gives the lives in hours")
+        else:
+            from .bearing import check_speed, check_speed_model
+
+            check_speed(settings.speed)
+            check_speed_model(bearing)
+            model_speed = settings.speed
+            settings = replace(settings, balls_at_speed=True)
     if q is None:
         from .api import solve
 
-        result = solve(bearing, load)
+        result = solve(bearing, load, speed=model_speed)
         if not result.converged:
             raise ValueError(f"the load did not solve (status {result.status_name}); no load distribution, no life")
         q = result.q
-    return life(bearing, load, q, settings)
+    else:
+        q = _checked_displacement(bearing, load, q, model_speed)
+    out = life(bearing, load, q, settings)
+    out.notes[:0] = notes
+    return out
+
+
+def _checked_displacement(bearing, load, q, speed: float) -> np.ndarray:
+    """``q`` (mm, rad) if it is five finite numbers whose f(q) at ``speed`` (rpm) carries ``load`` within
+    Q_LOAD_RTOL; ValueError naming q otherwise (a life from another load's distribution would look right)."""
+    from .api import _as_vector, stiffness
+
+    q = _as_vector(q, "q", "mm, rad")
+    f, _ = stiffness(bearing, q, speed=speed)
+    D = np.array([1.0, 1.0, 1.0, 1.0 / bearing.length_scale, 1.0 / bearing.length_scale])
+    scale = max(float(np.abs(np.asarray(load) * D).max()), 1.0)
+    residual = float(np.abs((f - load) * D).max()) / scale
+    if not residual <= Q_LOAD_RTOL:
+        raise validate.FieldError("q", f"must carry the load (f(q) = load within {Q_LOAD_RTOL:g} of its largest "
+                                  f"component{' at the given speed' if speed else ''}): f(q) = "
+                                  f"{_plain(f)} N, N*mm, off by {residual:.3g}; leave q out to have it solved",
+                                  show_value=False)
+    return q
+
+
+def _plain(values) -> str:
+    """Numbers as plain floats for a message, not np.float64(...)."""
+    return "(" + ", ".join(f"{float(v):.6g}" for v in values) + ")"
 
 
 def life(bearing, load, q, settings: LifeSettings | None = None) -> LifeResult:

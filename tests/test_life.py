@@ -285,3 +285,42 @@ def test_shaft_life_on_a_roller_and_a_ball_bearing():
     lives = [b["L10r"] for b in out["bearings"]]
     assert [b["weibull_slope"] for b in out["bearings"]] == [9 / 8, 10 / 9]
     assert sum((out["system_L10r"] / Li) ** e for Li, e in zip(lives, (9 / 8, 10 / 9))) == pytest.approx(1.0)
+
+
+def test_life_at_speed_is_one_answer_in_python_and_on_the_command_line():
+    """rating_life(speed=...) solves with the high-speed model, as solve --life --speed does (issue 33: the
+    API once solved at rest and gave 21 898 against the command line's 3 913)."""
+    path = BEARINGS / "7014C-DB.toml"
+    b = fb.load_bearing(path)
+    py = fb.rating_life(b, [500.0, 0, 1000.0, 0, 0], speed=18000.0)
+    body = json.loads(cli_run("solve", "--bearing", path, "--load", "500,0,1000,0,0", "--life", "--speed", "18000",
+                              "--json").stdout)
+    assert py.L10r == pytest.approx(body["life"]["L10r"], rel=1e-9)
+    assert py.L10r < 0.5 * fb.rating_life(b, [500.0, 0, 1000.0, 0, 0]).L10r  # the speed model, not hours only
+    # the q the high-speed solve found is accepted; the quasi-static one is not a solution at speed
+    q = fb.solve(b, [500.0, 0, 1000.0, 0, 0], speed=18000.0).q
+    assert fb.rating_life(b, [500.0, 0, 1000.0, 0, 0], speed=18000.0, q=q).L10r == pytest.approx(py.L10r, rel=1e-9)
+    with pytest.raises(ValueError, match="must carry the load"):
+        fb.rating_life(b, [500.0, 0, 1000.0, 0, 0], speed=18000.0, q=fb.solve(b, [500.0, 0, 1000.0, 0, 0]).q)
+    # roller rows have no high-speed model: solved at rest, the speed gives hours, and the result says so
+    nu = fb.rating_life(fb.load_bearing(BEARINGS / "NU205.toml"), [3000.0, 0, 0, 0, 0], speed=3000.0)
+    assert nu.L10r == pytest.approx(fb.rating_life(fb.load_bearing(BEARINGS / "NU205.toml"),
+                                                   [3000.0, 0, 0, 0, 0]).L10r, rel=1e-12)
+    assert any("quasi-statically" in n for n in nu.notes)
+
+
+@pytest.mark.parametrize("path, load, q", [("NU205.toml", [1000.0, 0, 0, 0, 0], [math.nan, 0, 0, 0, 0]),
+                                           ("6305.toml", [1000.0, 0, 1000.0, 0, 0], [0.5, 0, 0, 0, 0]),
+                                           ("6305.toml", [1000.0, 0, 1000.0, 0, 0], [0.0, 0, 0, 0, 0])])
+def test_life_refuses_a_q_that_is_not_finite_or_does_not_carry_the_load(path, load, q):
+    """Once these gave L10r = inf, 0.002 and inf: lives of a load distribution that is not the load's."""
+    with pytest.raises(ValueError, match=r"^q"):
+        fb.rating_life(fb.load_bearing(BEARINGS / path), load, q=q)
+
+
+def test_contamination_without_kappa_is_refused_not_ignored():
+    with pytest.raises(ValueError, match="contamination goes with kappa"):
+        fb.rating_life(fb.load_bearing(BEARINGS / "6305.toml"), [1000.0, 0, 0, 0, 0], contamination=0.5)
+    s = cli_run("solve", "--bearing", BEARINGS / "6305.toml", "--load", "1000,0,0,0,0", "--life", "--contamination",
+                "0.5")
+    assert s.returncode == 2 and "--contamination goes with --kappa" in s.stderr and "Traceback" not in s.stderr
