@@ -38,7 +38,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .config import ERROR_MODEL, KERNEL_FASTMATH, REFCOUNT
+from .config import CACHE, ERROR_MODEL, KERNEL_FASTMATH, REFCOUNT
 from .deflection import deflection
 from .roots import cube_root
 from .trig import atan2
@@ -86,7 +86,7 @@ CHUNK = 32
 N_SUMMARY = 35
 
 
-@njit(cache=True)
+@njit(cache=CACHE)
 def warm_rows(n_balls):
     """Rows of a ball set's warm scratch for ``n_balls`` balls: the N_WARM rows of warm starts and room for
     one chunk of summaries after them."""
@@ -229,7 +229,8 @@ def ball_state(ur, uz, br, bz, p, w_i, w_o, smoothing_eps):
     GU_rz = hi_rz + Fc_uz + inv_D * (Tr * Mg_uz + Mg * li * piz)
     GU_zr = hi_rz + inv_D * (Tz * Mg_ur - Mg * li * pir)
     GU_zz = hi_zz + inv_D * (Tz * Mg_uz - Mg * li * pic)
-    # the ring's share: F = Q_i n_i + li (M_g/D) t_i, m = li f_i D M_g/D
+    # the ring's share: F = Q_i n_i + li (M_g/D) t_i at I, and the moment about I of that friction force,
+    # which acts at the contact, f_i D from I: m = li (M_g/D) f_i D = li f_i M_g
     lid = li * inv_D
     F_r = Qi * ci + lid * Mg * si
     F_z = Qi * si - lid * Mg * ci
@@ -241,13 +242,13 @@ def ball_state(ur, uz, br, bz, p, w_i, w_o, smoothing_eps):
     FB_rz = -hi_rz + lid * (si * Mg_bz - Mg * piz)
     FB_zr = -hi_rz + lid * (-ci * Mg_br + Mg * pir)
     FB_zz = -hi_zz + lid * (-ci * Mg_bz + Mg * pic)
-    la = li * arm
+    la = lid * arm  # arm = f_i D (mm)
     return (g_r, g_z, GB_rr, GB_rz, GB_zr, GB_zz, GU_rr, GU_rz, GU_zr, GU_zz, F_r, F_z, FU_rr, FU_rz, FU_zr,
             FU_zz, FB_rr, FB_rz, FB_zr, FB_zz, la * Mg, la * Mg_ur, la * Mg_uz, la * Mg_br, la * Mg_bz,
             Qi, Qo, ci, si, co, so, Fc, Mg, wm, delta_i, delta_o)
 
 
-@njit(fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
+@njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
 def start_position(ur, uz, p, w_i, w_o, smoothing_eps):
     """First guess of the ball centre B (mm from O, mirrored frame) and whether the ball touches the inner
     race at all.
@@ -346,7 +347,7 @@ def _step_length(st, step_r, step_z, reach, ri):
     return t
 
 
-@njit(fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
+@njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
 def _newton(ur, uz, br, bz, p, w_i, w_o, smoothing_eps, max_iterations, linearise):
     """Newton on one ball's equilibrium g(B) = 0 from B = (br, bz); returns (state, br, bz, iterations,
     settled, dB_r, dB_z, exact).
@@ -372,7 +373,7 @@ def _newton(ur, uz, br, bz, p, w_i, w_o, smoothing_eps, max_iterations, linearis
         it += 1
 
 
-@njit(fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
+@njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
 def settle_ball(ur, uz, p, w_i, w_o, smoothing_eps, warm_br=0.0, warm_bz=0.0, warm=False, linearise=False):
     """Settle one ball: Newton on g(B) = 0 from the warm start (warm_br, warm_bz) when ``warm`` and both
     its contacts are closed there, else (or when the warm start does not settle in WARM_ITERATIONS)
@@ -539,7 +540,7 @@ def _prediction(warm, j, ur, uz):
             warm[WARM_BZ, j] - (warm[WARM_X10, j] * du_r + warm[WARM_X11, j] * du_z))
 
 
-@njit(fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
+@njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
 def _predicted_chunk(q, table, speed_table, omega, eps, warm, out, j0, m, linearise, cold):
     """Balls j0 .. j0+m-1 at their first-order predictions from ``warm`` (``cold``: at their cold guesses,
     :func:`start_position`, S_LOADED saying whether it touches the inner race): state, judgement
@@ -616,7 +617,7 @@ def _ring_add(sums, sm, table, j, eps):
             _add_column(acc4, c, s, z, R, k00, k01, k10, k11, m0, m1, z * c, -R * c))
 
 
-@njit(fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
+@njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
 def _ring_sums(sums, table, out, j0, m, eps):
     """``sums`` plus the shares of balls j0 .. j0+m-1 from their summaries in the chunk ``out``: loads and
     sums only, so that it vectorises."""
@@ -625,7 +626,7 @@ def _ring_sums(sums, table, out, j0, m, eps):
     return sums
 
 
-@njit(fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
+@njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
 def _ball_pass(q, table, speed_table, omega, eps, ball_load, contact_angle, states, warm):
     """:func:`spinning_balls`' work, Kb or not (one compiled loop for both): returns (the ring sums,
     sum of Q_i in N, loaded balls, warning bits)."""
@@ -717,7 +718,7 @@ def _ball_pass(q, table, speed_table, omega, eps, ball_load, contact_angle, stat
     return sums, total, n_loaded, flags
 
 
-@njit(fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
+@njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
 def spinning_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact_angle, states, warm):
     """Write f (5) and, unless ``K`` is None, Kb (5x5, not symmetric) of the ball rows at shaft speed.
 

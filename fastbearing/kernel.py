@@ -104,7 +104,7 @@ def _add_load(acc, c, s, z, R, fr, fz):
             k00, k01, k02, k03, k04, k11, k12, k13, k22, k23, k24, k33, k34, k44)
 
 
-@njit(error_model=ERROR_MODEL, _nrt=REFCOUNT)
+@njit(cache=CACHE, error_model=ERROR_MODEL, _nrt=REFCOUNT)
 def _store(acc, f, K, add):
     """Write (or, with ``add``, add) the sums of :func:`_add_contact` into f and, unless None, Kb.
 

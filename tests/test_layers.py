@@ -86,6 +86,26 @@ def test_every_module_with_kernels_is_in_the_cache_hash():
     assert jitted <= set(_cache.KERNEL_MODULES), sorted(jitted - set(_cache.KERNEL_MODULES))
 
 
+def test_every_kernel_a_caller_can_reach_is_cached_on_disk():
+    """A kernel compiled without numba's cache is compiled again in every process that calls it from
+    Python: the high-speed ball pass once cost 11-16 s on every `solve --balls --speed` (issue 33)."""
+    import importlib
+
+    from numba.core.registry import CPUDispatcher
+
+    from fastbearing import _cache
+
+    uncached = []
+    for name in _cache.KERNEL_MODULES:
+        module = importlib.import_module(f"fastbearing.{name[:-3]}")
+        for attr, obj in vars(module).items():
+            if (isinstance(obj, CPUDispatcher) and obj.__module__ == module.__name__
+                    and obj.targetoptions.get("inline", "never") != "always"
+                    and type(obj._cache).__name__ == "NullCache"):
+                uncached.append(f"{name}:{attr}")
+    assert not uncached, uncached
+
+
 def test_stale_kernel_cache_is_dropped_also_under_numba_cache_dir(tmp_path):
     """A changed kernel source must never run old machine code, wherever numba keeps its cache."""
     import os
