@@ -690,7 +690,7 @@ def _ball_pass(q, table, speed_table, omega, eps, ball_load, contact_angle, stat
             n_loaded += loaded
             if not settled:
                 flags |= 4
-            if loaded and si < 0.0:
+            if loaded and si < 0.0 and table[5, j] != 0.0:  # a level row (a0 = 0) has no direction to reverse
                 flags |= 1
             if d_i + d_o > table[12, j]:
                 flags |= 2

@@ -349,7 +349,9 @@ def ball_sums(q, table, base, n, exponent, smoothing, K, ball_load, contact_angl
         dQ *= slope
         loaded = delta > 0.0
         count += weight[j] * loaded
-        n_reversed += loaded & (direction[j] * uz < 0.0)
+        # a row whose groove centres sit level at rest (a0 = 0, no axial preload: deep groove) has no
+        # contact direction to reverse: its balls take either shoulder
+        n_reversed += loaded & (direction[j] * uz < 0.0) & (uz0[j] != 0.0)
         n_beyond += delta > limit[j]
         if ball_load is not None:
             ball_load[j] = Q * share[j]

@@ -125,6 +125,19 @@ def test_contact_reversal_is_flagged_not_failed():
     assert not fb.solve(bearing, [0, 0, 3000.0, 0, 0]).status & st.CONTACT_REVERSED
 
 
+def test_a_deep_groove_row_has_no_contact_direction_to_reverse():
+    """A 0 deg row's balls take either shoulder: the 6305 under a radial load with a little axial load was
+    flagged contact_reversed for a ball at -0.13 deg (issue 33), at rest and at speed; an angular contact
+    row still is (above)."""
+    b = fb.load_bearing(Path(__file__).parents[1] / "data" / "bearings" / "6305.toml")
+    for speed in (0.0, 6000.0):
+        r = fb.solve(b, [1500.0, 0.0, 100.0, 0.0, 0.0], speed=speed)
+        assert r.status_name == "converged", (speed, r.status_name)
+        loads = fb.solve_many(b, [[Fx, 0.0, Fz, 0.0, My] for Fx in (200.0, 1500.0, 4000.0) for Fz in (-300.0, 0.0, 100.0)
+                                  for My in (0.0, 2000.0)], speed=[speed] * 18)
+        assert np.all(loads.status == st.CONVERGED), [st.describe(s) for s in loads.status]
+
+
 def test_zero_load_without_preload_is_unloaded():
     r = fb.solve(fb.Bearing.preset("gunduz2013", "DB"), np.zeros(5))
     assert r.status == st.UNLOADED and r.converged
