@@ -18,7 +18,7 @@ from dataclasses import dataclass, replace
 from . import validate
 from .bearing import Bearing
 from .geometry import MATERIALS, STEEL, Material, reduced_modulus
-from .rollers import CROWNS, MAX_ROLLERS, MAX_SLICES, ROLLER_ELEMENTS
+from .rollers import CROWNS, MAX_ROLLERS, MAX_SLICES, PRELOAD_APPROACH_LIMIT, ROLLER_ELEMENTS, radial_clearance_floor
 
 #: Palmgren's line contact per raceway, delta = PALMGREN * Q^0.9 / l^0.8 (mm, N).
 PALMGREN = 3.84e-5
@@ -53,7 +53,8 @@ class RollerGeometry:
         Degrees: 0 for cylindrical rollers; the cup angle of tapered rollers (e.g. atan(e/1.5) from a
         catalogue's calculation factor e).
     diametral_clearance : float
-        Pd in mm (radial clearance per roller Pd/2).
+        Pd in mm (radial clearance per roller Pd/2); a negative Pd (interference) may press each roller
+        by at most 0.005 l (rollers.PRELOAD_APPROACH_LIMIT).
     row_spacing : float or None
         2e in mm between the two rows' roller centres (double rows).
     roller_material, ring_material : Material
@@ -107,7 +108,20 @@ class RollerGeometry:
                 set_(self, name, v.number(getattr(self, name), name, low=0, low_open=True, units="N"))
         set_(self, "slices", v.integer(self.slices, "slices", low=1, high=MAX_SLICES))
         v.choice(self.crown, "crown", CROWNS)
-        self.row_keywords()  # the row's own checks (contact angle, crown) under the same names
+        try:
+            self.row_keywords()  # the row's own checks (contact angle, crown) under the same names
+        except v.FieldError as err:
+            if err.field != "radial_clearance":
+                raise
+            self._interference_error()
+
+    def _interference_error(self):
+        """The row's interference bound under the key the user typed: diametral_clearance (mm), Pd = 2 rL."""
+        limit = PRELOAD_APPROACH_LIMIT * self.roller_effective_length
+        bound = 2.0 * radial_clearance_floor(self.contact_angle, limit)
+        raise validate.FieldError("diametral_clearance", f"must be >= {bound:.6g} mm: an interference may press "
+                                  f"each roller by at most {PRELOAD_APPROACH_LIMIT:g} l = {limit:.6g} mm",
+                                  self.diametral_clearance) from None
 
     @property
     def reduced_modulus(self) -> float:

@@ -6,15 +6,18 @@ ball row. Each roller is cut into ``slices`` laminae of width w = l/slices along
 slice k sits at x_k (from the roller's middle) along the generatrix t = (-s sin a, cos a) in the
 (radial, axial) plane. Its approach along the fixed normal n = (cos a, s sin a) is
 
-    delta_k = n . (dr_k, dz_k) + s d0 sin(a) - rL cos(a) - c(x_k)
+    delta_k = n . (dr_k, dz_k) + d0 sin(a) - rL cos(a) - c(x_k)
 
 with (dr_k, dz_k) the inner ring's radial and axial displacement at the slice (the ball loop's rigid-ring
 expressions at the slice's radius and axial position), d0 the axial preload, rL the radial clearance and
-c(x) the crown drop; its load is q_k = (w/l) K max(delta_k, 0)^(10/9), K the whole roller's line-contact
-constant (inner and outer raceway in series), so an evenly loaded uncrowned roller carries K delta^(10/9)
-whatever the slice count. The kernel (kernel.py) sums the slices like the balls. Roller-rib contact and
-the tapered roller's own equilibrium between cone and cup are not modelled (the cup angle carries the
-normal), as in Lim & Singh (1990).
+c(x) the crown drop. A preload presses the row whatever its contact direction: d0 moves the rings
+together along the row's own axial direction, s d0 on the axial approach as a ball row's, whose
+projection on n is d0 sin(a) for either s (both rows of a TDO or TDI pair are preloaded). Its load is
+q_k = (w/l) K max(delta_k, 0)^(10/9), K the whole roller's line-contact constant (inner and outer raceway
+in series), so an evenly loaded uncrowned roller carries K delta^(10/9) whatever the slice count. The
+kernel (kernel.py) sums the slices like the balls. Roller-rib contact and the tapered roller's own
+equilibrium between cone and cup are not modelled (the cup angle carries the normal), as in Lim & Singh
+(1990).
 
 Units: N, mm; angles in degrees in the definition, rad in the kernel.
 """
@@ -46,6 +49,12 @@ N_SLICE_COLUMNS = 14
 #: A roller row's deflection scale as a fraction of its effective length (the solver's step and smoothing
 #: scale, as A0 is a ball row's): 0.02 l, e.g. 0.2 mm for a 10 mm roller.
 DEFLECTION_SCALE = 0.02
+#: Largest unloaded approach d0 sin(a) - rL cos(a) a preload or an interference may set, as a fraction of the
+#: roller's effective length l: about the approach at which a steel roller of usual proportions reaches the
+#: ~4000 N/mm^2 contact pressure of its static rating (ISO 76). Palmgren's K and Hertz's line contact at the
+#: inner raceway put that approach at 0.0183 (R/l)^0.9 l, R = Dw (1 - g)/2: 0.0052 l for l = 1.7 Dw (the
+#: 30206), 0.0086 l for l = 0.93 Dw (the NU 205); shorter rollers are bounded on the safe side.
+PRELOAD_APPROACH_LIMIT = 0.005
 
 
 @dataclass(frozen=True)
@@ -72,7 +81,9 @@ class RollerRow:
     radial_clearance : float
         rL, radial clearance per roller in mm (negative: interference).
     axial_preload : float
-        d0, axial preload of the row in mm (tapered rows).
+        d0, axial preload of the row in mm (tapered rows), pressing the row whatever its contact direction
+        (negative: an axial clearance). The unloaded approach d0 sin(a) - rL cos(a) is at most 0.005 l
+        (PRELOAD_APPROACH_LIMIT).
     first_element_angle : float
         Azimuth of the row's first roller in degrees.
     slices : int
@@ -146,6 +157,25 @@ class RollerRow:
         if self.element == "cylindrical_roller" and self.axial_preload != 0.0:
             raise v.FieldError("axial_preload", "has no effect on a cylindrical roller row (its normal is radial)",
                                self.axial_preload)
+        self._check_preload()
+
+    def _check_preload(self) -> None:
+        """Keep the unloaded approach d0 sin(a) - rL cos(a) (mm) within PRELOAD_APPROACH_LIMIT l, naming the key
+        that set the preload with its bound, the other held at its value (as a ball row's check). An axial
+        clearance (d0 < 0) is not bounded: the normal is fixed, so no contact direction can turn round."""
+        limit = self.preload_approach_limit
+        if self.unloaded_approach <= limit:
+            return
+        a = math.radians(self.contact_angle)
+        rL, d0 = self.radial_clearance, self.axial_preload
+        if rL < 0 and d0 * math.sin(a) <= limit:
+            bound = radial_clearance_floor(self.contact_angle, limit, d0)
+            raise validate.FieldError("radial_clearance", f"must be >= {bound:.6g} mm (a diametral clearance >= "
+                                      f"{2 * bound:.6g} mm): an interference may press each roller by at most "
+                                      f"{PRELOAD_APPROACH_LIMIT:g} l = {limit:.6g} mm", rL)
+        bound = (limit + rL * math.cos(a)) / math.sin(a)
+        raise validate.FieldError("axial_preload", f"must be <= {bound:.6g} mm: an axial preload may press each "
+                                  f"roller by at most {PRELOAD_APPROACH_LIMIT:g} l = {limit:.6g} mm", d0)
 
     @property
     def n_elements(self) -> int:
@@ -155,6 +185,17 @@ class RollerRow:
     def deflection_scale(self) -> float:
         """A length that bounds the solver's early Newton steps and its smoothing, mm: 0.02 l."""
         return DEFLECTION_SCALE * self.roller_effective_length
+
+    @property
+    def unloaded_approach(self) -> float:
+        """d0 sin(a) - rL cos(a) in mm: the approach of every roller's middle at q = 0 (> 0: preloaded)."""
+        a = math.radians(self.contact_angle)
+        return self.axial_preload * math.sin(a) - self.radial_clearance * math.cos(a)
+
+    @property
+    def preload_approach_limit(self) -> float:
+        """The largest unloaded approach a preload may set, mm: PRELOAD_APPROACH_LIMIT l."""
+        return PRELOAD_APPROACH_LIMIT * self.roller_effective_length
 
     @property
     def slice_positions(self) -> np.ndarray:
@@ -173,12 +214,21 @@ class RollerRow:
         x = np.asarray(x, float)
         if self.crown == "circular":
             Rc = self.crown_radius
-            return Rc - np.sqrt(Rc * Rc - x * x)
+            # Rc - sqrt(Rc^2 - x^2) without the cancellation: it lost about log10(Rc^2/x^2) digits
+            return x * x / (Rc + np.sqrt(Rc * Rc - x * x))
         if self.crown == "logarithmic":
             l = self.roller_effective_length
+            # ln(1/(1 - u)) = -log1p(-u): 1 - u rounds away the digits of a small u (slices near the middle)
             return (2.0 * self.crown_design_load / (math.pi * l * self.reduced_modulus)
-                    * np.log(1.0 / (1.0 - (2.0 * x / l) ** 2)))
+                    * -np.log1p(-(2.0 * x / l) ** 2))
         return np.zeros_like(x)
+
+
+def radial_clearance_floor(contact_angle: float, limit: float, axial_preload: float = 0.0) -> float:
+    """The smallest radial clearance rL in mm (most interference) that keeps d0 sin(a) - rL cos(a) <= limit
+    (mm), a in degrees."""
+    a = math.radians(contact_angle)
+    return (axial_preload * math.sin(a) - limit) / math.cos(a)
 
 
 def slice_table(rows, first_roller: int, cage_angle: float = 0.0) -> np.ndarray:
@@ -192,7 +242,7 @@ def slice_table(rows, first_roller: int, cage_angle: float = 0.0) -> np.ndarray:
         a = math.radians(r.contact_angle)
         s = r.contact_direction
         x = r.slice_positions
-        offset = s * r.axial_preload * math.sin(a) - r.radial_clearance * math.cos(a) - r.crown_drop(x)
+        offset = r.unloaded_approach - r.crown_drop(x)
         for j in range(r.n_rollers):
             psi = math.radians(r.first_element_angle) + cage_angle + 2.0 * math.pi * j / r.n_rollers
             sl = slice(k, k + r.slices)

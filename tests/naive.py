@@ -317,14 +317,14 @@ _PI_LD = np.longdouble("3.14159265358979323846264338327950288")
 
 
 def bearing_row_dicts(bearing):
-    """The rows of a fastbearing.Bearing as this module's row dicts, angles in radians as np.longdouble
+    """The ball rows of a fastbearing.Bearing as this module's row dicts, angles in radians as np.longdouble
     (converted from the bearing's degrees in extended precision, not through float64)."""
     deg = _PI_LD / 180
     return [dict(n_balls=r.n_balls, first_ball_angle=np.longdouble(r.first_ball_angle) * deg,
                  axial_offset=r.axial_offset, contact_direction=r.contact_direction,
                  contact_angle=np.longdouble(r.contact_angle) * deg, groove_center_distance=r.groove_center_distance,
                  pitch_radius=r.pitch_radius, hertz_constant=r.hertz_constant, exponent=r.exponent,
-                 radial_clearance=r.radial_clearance, axial_preload=r.axial_preload) for r in bearing.rows]
+                 radial_clearance=r.radial_clearance, axial_preload=r.axial_preload) for _, r in bearing.ball_rows]
 
 
 def load_extended(q, rows):
@@ -357,3 +357,64 @@ def load_extended(q, rows):
         m = R * fz - z * fr
         f += [np.sum(fr * c), np.sum(fr * s), np.sum(fz), np.sum(m * s), -np.sum(m * c)]     # Eq. (12)
     return f
+
+
+# --------------------------------------------------------------------------
+# Roller slices in extended precision (docs/model.md, "Roller slices")
+# --------------------------------------------------------------------------
+def crown_drop_extended(row, x):
+    """c(x) in mm of a fastbearing.RollerRow at slice positions x (np.longdouble, mm from the roller's
+    middle), formed in extended precision from crown_radius / crown_design_load: circular
+    Rc - sqrt(Rc^2 - x^2), written x^2 / (Rc + sqrt(Rc^2 - x^2)) (the same number without the
+    cancellation); logarithmic (2 Q / (pi l E')) ln(1 / (1 - (2x/l)^2)) = -(...) log1p(-(2x/l)^2)."""
+    if row.crown == "circular":
+        Rc = np.longdouble(row.crown_radius)
+        return x * x / (Rc + np.sqrt(Rc * Rc - x * x))
+    if row.crown == "logarithmic":
+        l = np.longdouble(row.roller_effective_length)
+        scale = 2 * np.longdouble(row.crown_design_load) / (_PI_LD * l * np.longdouble(row.reduced_modulus))
+        return -scale * np.log1p(-(2 * x / l) ** 2)
+    return np.zeros_like(x)
+
+
+def roller_load_extended(q, bearing):
+    """f (5,) of a fastbearing.Bearing's roller rows in np.longdouble (N, N*mm), slice by slice.
+
+    Written from docs/model.md, "Roller slices": slice k of a roller at azimuth psi sits at
+    x_k = -l/2 + (k + 1/2) w (w = l/S), radius R_k = R - s x_k sin a and axial place z_k = z_r + x_k cos a;
+    its approach along n = (cos a, s sin a) is n . (dr_k, dz_k) + d0 sin a - rL cos a - c(x_k) (an axial
+    preload d0 presses the row whatever its contact direction s, as a ball row's s d0 on the axial
+    approach does), its load q_k = (w/l) K max(delta_k, 0)^(10/9), and it adds q_k g_k to f with
+    g_k = cos a J_r + s sin a J_z. Azimuths, the contact angle, the slice positions and the crown
+    are formed in extended precision from the row's public fields (not from the kernel's table).
+    """
+    q = np.asarray(q, dtype=np.float64).astype(np.longdouble)
+    dx, dy, dz, bx, by = q
+    deg = _PI_LD / 180
+    f = np.zeros(5, dtype=np.longdouble)
+    for _, r in bearing.roller_rows:
+        Z, S, s = r.n_rollers, r.slices, r.contact_direction
+        l = np.longdouble(r.roller_effective_length)
+        x = -l / 2 + (np.arange(S, dtype=np.longdouble) + np.longdouble(0.5)) * (l / S)          # (S,)
+        psi = (np.longdouble(r.first_element_angle) * deg
+               + 2 * _PI_LD * np.arange(Z, dtype=np.longdouble) / Z)[:, None]                  # (Z, 1)
+        c, sn = np.cos(psi), np.sin(psi)
+        a = np.longdouble(r.contact_angle) * deg
+        nr, nz = np.cos(a), s * np.sin(a)
+        Rk = np.longdouble(r.pitch_radius) - s * x * np.sin(a)
+        zk = np.longdouble(r.axial_offset) + x * np.cos(a)
+        dr = (dx + zk * by) * c + (dy - zk * bx) * sn                                        # ring at the slice
+        dzk = dz + Rk * (bx * sn - by * c)
+        delta = (nr * dr + nz * dzk + np.longdouble(r.axial_preload) * np.sin(a)
+                 - np.longdouble(r.radial_clearance) * np.cos(a) - crown_drop_extended(r, x))
+        load = (np.longdouble(r.hertz_constant) / S) * np.maximum(delta, 0) ** (np.longdouble(10) / 9)
+        m = nz * Rk - nr * zk                                                                 # lever of g_k
+        f += [np.sum(load * nr * c), np.sum(load * nr * sn), np.sum(load) * nz, np.sum(load * m * sn),
+              -np.sum(load * m * c)]
+    return f
+
+
+def bearing_load_extended(q, bearing):
+    """f (5,) of every row of a fastbearing.Bearing in np.longdouble: its ball rows by Eq. (12)
+    (:func:`load_extended`) and its roller rows slice by slice (:func:`roller_load_extended`)."""
+    return load_extended(q, bearing_row_dicts(bearing)) + roller_load_extended(q, bearing)

@@ -53,7 +53,8 @@ def reference_f_K(bearing, q):
                 Jr = np.array([c, sn, 0.0, -z * sn, z * c])
                 Jz = np.array([0.0, 0.0, 1.0, R * sn, -R * c])
                 dr, dzz = Jr @ q, Jz @ q
-                delta = n[0] * dr + n[1] * dzz + s * r.axial_preload * math.sin(a) - r.radial_clearance * math.cos(a)
+                # a preload presses the row whatever its direction s: s d0 axially, d0 sin(a) along n
+                delta = n[0] * dr + n[1] * dzz + r.axial_preload * math.sin(a) - r.radial_clearance * math.cos(a)
                 delta -= float(r.crown_drop(np.array([x]))[0])
                 if delta <= 0:
                     continue
@@ -310,3 +311,119 @@ def test_slice_record_edge_loading_and_line_contact_pressure():
 
     text = cli_run("solve", "--bearing", DATA / "bearings" / "NU205.toml", "--load", "5000,0,0,0,2e4", "--balls").stdout
     assert "rollers (psi azimuth" in text and "p_in(MPa)" in text
+
+
+# -- preload of tapered pairs (issue 33) ---------------------------------------------------------------
+
+def shipped_pair(arrangement):
+    """data/bearings/30206-TDO.toml as shipped (d0 = 0.005 mm per row), or the same file face to face."""
+    import tomllib
+
+    doc = tomllib.loads((DATA / "bearings" / "30206-TDO.toml").read_text())
+    doc["bearing"]["arrangement"] = arrangement
+    return fb.bearing_from_table(doc["bearing"])
+
+
+def row_loads(bearing, q):
+    """Each row's total roller load in N at q."""
+    from fastbearing.contacts import slice_loads
+
+    totals, _ = slice_loads(bearing, q)
+    rows = bearing.element_rows[bearing.n_balls:]
+    return np.array([totals[rows == i].sum() for i, _ in bearing.roller_rows])
+
+
+@pytest.mark.parametrize("arrangement", ["TDO", "TDI"])
+def test_axial_preload_presses_both_rows_of_a_tapered_pair(arrangement):
+    """d0 adds d0 sin(a) to the approach of either row (as a ball row's s d0 on the axial approach does):
+    at q = 0 both rows carry the same load and f = 0; the preload stiffens the pair; the unloaded pair
+    solves to q = 0 with its rollers loaded. (Before: s d0 sin(a) preloaded one row and gave the other
+    clearance, f(0) = (0, 0, 161 N, 0, 0), kxx at 2 kN the same with and without preload, and f = 0
+    solved at dz = -0.0049 mm with every roller unloaded.)"""
+    pair = shipped_pair(arrangement)
+    free = pair.with_rows(axial_preload=0.0)
+    assert [r.axial_preload for r in pair.rows] == [0.005, 0.005]
+    loads = row_loads(pair, np.zeros(5))
+    r = pair.rows[0]
+    each = r.n_rollers * r.hertz_constant / r.slices * np.sum(np.maximum(
+        0.005 * math.sin(math.radians(r.contact_angle)) - r.crown_drop(r.slice_positions), 0.0) ** (10 / 9))
+    np.testing.assert_allclose(loads, [each, each], rtol=1e-12)          # 673 N a row
+    f0, K0 = fb.stiffness(pair, np.zeros(5))
+    L = pair.length_scale
+    assert np.abs(f0[:3]).max() <= 1e-12 * loads.sum() and np.abs(f0[3:]).max() <= 1e-12 * loads.sum() * L
+    assert K0[0, 0] > 0 and K0[2, 2] > 0                                  # preloaded: stiff at rest
+    stiff, soft = fb.solve(pair, [2000.0, 0, 0, 0, 0]), fb.solve(free, [2000.0, 0, 0, 0, 0])
+    assert stiff.converged and soft.converged
+    assert stiff.K[0, 0] > 1.01 * soft.K[0, 0] and stiff.K[2, 2] > 1.1 * soft.K[2, 2]    # 1.9 %, 22 %
+    rest = fb.solve(pair, np.zeros(5))
+    assert rest.converged and np.abs(rest.q).max() <= 1e-12
+    assert row_loads(pair, rest.q).min() > 600.0
+
+
+@pytest.mark.parametrize("arrangement", ["TDO", "TDI"])
+def test_preloaded_pair_equals_both_references_at_random_q(arrangement, rng):
+    """The shipped preloaded pair against the slow float64 reference (f and Kb) and the extended-precision
+    one of tests/naive.py (f), at random q around the preload's own deflection."""
+    from naive import roller_load_extended
+
+    pair = shipped_pair(arrangement)
+    for _ in range(5):
+        q = np.concatenate([rng.uniform(-0.005, 0.005, 3), rng.uniform(-2e-4, 2e-4, 2)])
+        f, K = fb.stiffness(pair, q)
+        f_ref, K_ref = reference_f_K(pair, q)
+        np.testing.assert_allclose(f, f_ref, rtol=1e-11, atol=1e-10 * np.abs(f_ref).max())
+        np.testing.assert_allclose(K, K_ref, rtol=1e-10, atol=1e-10 * np.abs(K_ref).max())
+        np.testing.assert_allclose(f, roller_load_extended(q, pair).astype(float), rtol=1e-12,
+                                   atol=1e-12 * np.abs(f_ref).max())
+
+
+# -- bounds on interference and preload (issue 33) -----------------------------------------------------
+
+def bound_words(field, bound):
+    """The refusal's words: the field, then its bound in mm as the message prints it."""
+    return rf"{field} must be {'>=' if 'clearance' in field else '<='} {bound:.6g} mm"
+
+
+@pytest.mark.parametrize("make, key, value, bound", [
+    # tapered: l = 13 mm, a = 14 deg, d0 sin(a) - rL cos(a) <= 0.005 l = 0.065 mm
+    (tapered_pair, "radial_clearance", -5.0, -0.065 / math.cos(math.radians(14.0))),
+    (tapered_pair, "axial_preload", 5.0, 0.065 / math.sin(math.radians(14.0))),
+    (cylindrical, "radial_clearance", -0.06, -0.005 * 11.05),
+])
+def test_roller_interference_and_preload_are_bounded(make, key, value, bound):
+    """A preload or interference may press each roller by at most 0.005 l (PRELOAD_APPROACH_LIMIT), where
+    steel rollers reach their static rating's contact pressure; just inside the bound still solves."""
+    from fastbearing.rollers import PRELOAD_APPROACH_LIMIT
+
+    assert PRELOAD_APPROACH_LIMIT == 0.005
+    with pytest.raises(ValueError, match=bound_words(f"rows\\[0\\]\\.{key}", bound)):
+        make(**{key: value})
+    assert fb.solve(make(**{key: 0.999 * bound}), [1000.0, 0, 0, 0, 0]).converged
+
+
+def test_bounds_name_what_the_bearing_file_says(tmp_path):
+    """In a geometry file the user types diametral_clearance (Pd = 2 rL) and [bearing] axial_preload: the
+    refusals name those keys and their bounds (l = 12 mm, a = 13.86 deg: Pd >= -0.12 / cos(a) mm,
+    d0 <= 0.06 / sin(a) mm); every shipped roller file is within them."""
+    text = (DATA / "bearings" / "30206-TDO.toml").read_text()
+    a = math.radians(13.86)
+    for old, new, words in (
+            ("diametral_clearance = 0.0", "diametral_clearance = -10.0",
+             bound_words(r"bearing\.geometry\.diametral_clearance", -0.12 / math.cos(a))),
+            ("axial_preload = 0.005", "axial_preload = 5.0",
+             bound_words(r"bearing\.axial_preload", 0.06 / math.sin(a)))):
+        assert old in text
+        path = tmp_path / "pair.toml"
+        path.write_text(text.replace(old, new))
+        with pytest.raises(ValueError, match=words):
+            fb.load_bearing(path)
+    for path in sorted((DATA / "bearings").glob("*.toml")):
+        fb.load_bearing(path)
+
+
+def test_an_axial_clearance_is_not_bounded():
+    """d0 < 0 on a tapered row is an axial clearance: the rollers' normal is fixed, so no contact direction
+    can turn round (a ball row's bound -A0 sin(a0) has no roller counterpart); the pair takes it up."""
+    pair = tapered_pair(axial_preload=-0.05)
+    r = fb.solve(pair, [3000.0, 0, 1000.0, 0, 0])
+    assert r.converged and row_loads(pair, r.q).max() > 0
