@@ -44,6 +44,9 @@ class SolveResult:
         moments divided by the largest pitch radius.
     evaluations : int
         Kernel evaluations (each is one pass over all balls).
+    note : str
+        Where the model has no answer for this load, why, in one line (empty otherwise): e.g. a tapered
+        row under a radial load with too little axial load to hold it.
     """
 
     q: np.ndarray
@@ -53,6 +56,7 @@ class SolveResult:
     iterations: int
     residual: float
     evaluations: int
+    note: str = ""
 
     @property
     def converged(self) -> bool:
@@ -63,9 +67,12 @@ class SolveResult:
         return st.describe(self.status)
 
     def to_dict(self) -> dict:
-        """JSON-ready dict (keys q, f, K, status, converged, iterations, residual)."""
-        return {"q": self.q.tolist(), "f": self.f.tolist(), "K": self.K.tolist(), "status": self.status_name,
-                "converged": self.converged, "iterations": int(self.iterations), "residual": float(self.residual)}
+        """JSON-ready dict (keys q, f, K, status, converged, iterations, residual; note where there is one)."""
+        out = {"q": self.q.tolist(), "f": self.f.tolist(), "K": self.K.tolist(), "status": self.status_name,
+               "converged": self.converged, "iterations": int(self.iterations), "residual": float(self.residual)}
+        if self.note:
+            out["note"] = self.note
+        return out
 
 
 def _check_bearing(bearing) -> Bearing:
@@ -153,16 +160,30 @@ def stiffness(bearing: Bearing, q, speed=0.0) -> tuple[np.ndarray, np.ndarray]:
     Raises
     ------
     ValueError
-        If q is not 5 finite numbers, or so large that f or Kb overflow float64.
+        If q is not 5 finite numbers, or so large that f or Kb overflow float64; at speed, if some ball's
+        own equilibrium does not settle at q (status ball_equilibrium: f and Kb there are not the model's).
     """
+    f, K, status = direct(bearing, q, speed)
+    if st.outcome(status) == st.BALL_EQUILIBRIUM:
+        raise ValueError(f"q: at {float(speed):g} rpm some balls have no equilibrium of their own at this "
+                         "displacement (status ball_equilibrium), so f and Kb there are not the model's")
+    return f, K
+
+
+def direct(bearing: Bearing, q, speed=0.0) -> tuple[np.ndarray, np.ndarray, int]:
+    """f (N, N*mm), Kb and the status code of the displacement ``q`` (mm, rad) at ``speed`` (rpm): CONVERGED
+    with the warning bits (contact_reversed, beyond_validity), or BALL_EQUILIBRIUM where at speed some
+    ball's own equilibrium did not settle (as a displacement-given map flags it). ValueError for a bad q or
+    an f or Kb that overflows float64."""
     bearing = _check_bearing(bearing)
     q = _as_vector(q, "q", "dx, dy, dz in mm; bx, by in rad")
     balls = speed_ball_set(bearing, speed)
     f = np.empty(5)
     K = np.empty((5, 5))
-    ball_loop(q, balls, f, K, None, None)
+    _, _, warnings = ball_loop(q, balls, f, K, None, None)
     _check_finite_result(f, K, "q")
-    return f, K
+    outcome = st.BALL_EQUILIBRIUM if warnings & st.BALL_UNSETTLED else st.CONVERGED
+    return f, K, outcome | (warnings & st.WARNING_MASK)
 
 
 def speed_ball_set(bearing: Bearing, speed) -> tuple:
@@ -268,7 +289,32 @@ def solve(bearing: Bearing, f, q0=None, method: str = "newton", rtol=None, max_i
     K = np.empty((5, 5))
     work = np.empty((WORK_ROWS, 5))
     out = solve_case(f_target, q, f_out, K, balls, opts, warm, work, None, None)
-    return SolveResult(q, f_out, K, int(out.status), int(out.iterations), float(out.residual), int(out.evaluations))
+    status = int(out.status)
+    return SolveResult(q, f_out, K, status, int(out.iterations), float(out.residual), int(out.evaluations),
+                       "" if st.is_converged(status) else no_solution_note(bearing, f_target, status))
+
+
+def no_solution_note(bearing: Bearing, load, status: int) -> str:
+    """Why a load has no solution in the model, in one line, where the cause is known ("" otherwise): a set
+    of tapered roller rows all facing one way (a single row, a tandem) turns a radial load Fr into an axial
+    one through its fixed contact normal, so it holds Fr only with an axial load of at least Fr tan(a) on its
+    contact side; a ball row can let its balls roll to 0 deg instead."""
+    if st.outcome(status) not in (st.SINGULAR, st.STALLED, st.ITERATION_LIMIT):
+        return ""
+    rows = [r for _, r in bearing.roller_rows]
+    directions = {r.contact_direction for r in rows}
+    if bearing.ball_rows or not rows or len(directions) != 1 or min(r.contact_angle for r in rows) <= 0.0:
+        return ""
+    s = directions.pop()
+    Fr = float(np.hypot(load[0], load[1]))
+    need = Fr * float(np.tan(np.radians(min(r.contact_angle for r in rows))))
+    if Fr == 0.0 or s * load[2] >= need:
+        return ""
+    side = "+z" if s > 0 else "-z"
+    return (f"no solution: a tapered roller row's fixed contact normal turns the radial load Fr = {Fr:g} N into an "
+            f"axial one, so it holds Fr only with an axial load of at least Fr tan(a) = {need:g} N on its contact "
+            f"side ({side}); Fz = {float(load[2]):g} N. Give the axial load the mounting carries (the other "
+            "bearing's reaction), or hold the axial displacement: solve --displacement")
 
 
 def check_threads(n):
@@ -363,15 +409,21 @@ def solve_many(bearing: Bearing, f, q0=None, method: str = "newton", rtol=None, 
 
 def stiffness_many(bearing: Bearing, q, threads=None, speed=0.0) -> tuple[np.ndarray, np.ndarray]:
     """f (N, 5) and Kb (N, 5, 5) at many displacements q (N, 5) in mm and rad, in parallel, at shaft
-    ``speed`` (rpm, one or one per case)."""
+    ``speed`` (rpm, one or one per case). ValueError as :func:`stiffness` (naming the first such case)."""
     bearing = _check_bearing(bearing)
     q = as_cases(q, "q", "dx, dy, dz in mm; bx, by in rad")
     n = q.shape[0]
     balls, speeds = speed_cases(bearing, speed, n)
     f = np.empty((n, 5))
     K = np.empty((n, 5, 5))
+    unsettled = np.zeros(n, dtype=np.bool_)
     with num_threads(threads):
-        stiffness_sweep(q, f, K, balls, speeds, config.SWEEP_BLOCK)
+        stiffness_sweep(q, f, K, balls, speeds, config.SWEEP_BLOCK, unsettled)
     _check_finite_result(f, K, "q")
+    if unsettled.any():
+        i = int(np.flatnonzero(unsettled)[0])
+        raise ValueError(f"q (case {i}): at {float(np.broadcast_to(speed, (n,))[i]):g} rpm some balls have no "
+                         "equilibrium of their own at this displacement (status ball_equilibrium), so f and Kb "
+                         "there are not the model's; a displacement-given load map flags such cases instead")
     return f, K
 

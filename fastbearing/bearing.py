@@ -346,6 +346,10 @@ class Bearing:
         directions = _DOUBLE_ROW_DIRECTIONS[ARRANGEMENT_ALIASES.get(arrangement, arrangement)]
         for i, (z, s) in enumerate(zip((-e, e), directions)):
             rows.append(_row({**row, "axial_offset": z, "contact_direction": s, "axial_preload": preloads[i]}, f"rows[{i}]"))
+        if arrangement in ARRANGEMENT_ALIASES and not all(isinstance(r, RollerRow) for r in rows):
+            plain = ARRANGEMENT_ALIASES[arrangement]
+            raise validate.FieldError("arrangement", "is for tapered roller pairs (TDO back to back, TDI face to "
+                                      f"face); a ball double row so arranged is {plain}", arrangement)
         return cls(tuple(rows), arrangement=arrangement, name=name)
 
     @classmethod

@@ -685,10 +685,16 @@ def _rollers_text(records: list[dict]) -> str:
 
 def _table(result: dict) -> str:
     lines = [f"status: {result['status']}  iterations: {result['iterations']}  residual: {result['residual']:.2e}"
-             + (f"  speed: {result['speed']:g} rpm (high-speed model)" if result.get("speed") else ""),
-             "q (mm, mm, mm, rad, rad): " + "  ".join(f"{n}={v:.6g}" for n, v in zip(DISPLACEMENT_NAMES, result["q"])),
-             "f (N, N, N, N*mm, N*mm): " + "  ".join(f"{n}={v:.6g}" for n, v in zip(LOAD_NAMES, result["f"])),
-             _matrix("Kb", result["K"])]
+             + (f"  speed: {result['speed']:g} rpm (high-speed model)" if result.get("speed") else "")]
+    if result.get("note"):
+        lines.append(result["note"])
+    if not result["converged"]:
+        if result.get("note"):  # the model has no answer here: no numbers that could pass for one
+            return "\n".join(lines)
+        lines.append("NOT A SOLUTION: the last iterate, shown for diagnosis only")
+    lines += ["q (mm, mm, mm, rad, rad): " + "  ".join(f"{n}={v:.6g}" for n, v in zip(DISPLACEMENT_NAMES, result["q"])),
+              "f (N, N, N, N*mm, N*mm): " + "  ".join(f"{n}={v:.6g}" for n, v in zip(LOAD_NAMES, result["f"])),
+              _matrix("Kb", result["K"])]
     if "beyond_validity" in str(result["status"]):
         lines.append("warning: beyond_validity: a ball's deflection exceeds its row's validity limit (the Hertz "
                      "pressure limit, 4200 N/mm^2 by default, or 0.15 A0); the equations are solved, but small "
@@ -697,7 +703,8 @@ def _table(result: dict) -> str:
 
 
 def _solve(args) -> int:
-    from .api import solve, stiffness
+    from . import status as status_codes
+    from .api import direct, solve
     from .contacts import ball_contacts
 
     bearing = _bearing(args)
@@ -727,11 +734,16 @@ def _solve(args) -> int:
     else:
         q = _five_numbers(args.displacement, "--displacement")
         try:
-            f, K = stiffness(bearing, q, speed=speed)
+            f, K, status = direct(bearing, q, speed=speed)
         except ValueError:
             raise ValueError(f"--displacement {args.displacement} is too large: f or Kb overflow float64") from None
-        result = {"q": [float(v) for v in q], "f": f.tolist(), "K": K.tolist(), "status": "direct",
-                  "converged": True, "iterations": 0, "residual": 0.0}
+        unsettled = status_codes.outcome(status) == status_codes.BALL_EQUILIBRIUM
+        result = {"q": [float(v) for v in q], "f": f.tolist(), "K": K.tolist(),
+                  "status": status_codes.describe(status) if unsettled else "direct", "converged": not unsettled,
+                  "iterations": 0, "residual": 0.0}
+        if unsettled:
+            result["note"] = (f"at {speed:g} rpm some balls have no equilibrium of their own at this displacement: "
+                              "f and Kb there are not the model's (solve --balls shows each ball's residual)")
     result["speed"] = speed
     if args.balls:
         result["balls"] = ball_contacts(bearing, result["q"], speed).to_records()[:bearing.n_balls]

@@ -141,6 +141,11 @@ class CaseSet:
         return out
 
 
+#: The columns of a case table, with units: the five loads (or displacements) and the shaft speed.
+CASE_COLUMNS = ("Fx or dx (N or mm)", "Fy or dy (N or mm)", "Fz or dz (N or mm)", "Mx or bx (N*mm or rad)",
+                "My or by (N*mm or rad)", "speed (rpm)")
+
+
 def read_case_file(path: Path, where: str) -> np.ndarray:
     """N x 5 cases from .npy, .csv (comma separated, optional header line) or .h5 (dataset ``cases``);
     N x 6 when a sixth column gives each case's shaft speed (rpm, >= 0).
@@ -184,10 +189,11 @@ def read_case_file(path: Path, where: str) -> np.ndarray:
     bad = ~np.isfinite(table)
     if bad.any():
         i, j = np.argwhere(bad)[0]
-        raise ValueError(f"{where}: {path} case {i} column {j} is not finite ({table[i, j]!r})")
+        raise ValueError(f"{where}: {path} case {i} column {j} ({CASE_COLUMNS[j]}) is not finite "
+                         f"({float(table[i, j])!r})")
     if table.shape[1] == 6 and (table[:, 5] < 0).any():
         i = int(np.flatnonzero(table[:, 5] < 0)[0])
-        raise ValueError(f"{where}: {path} case {i} speed (column 5) must be >= 0 rpm, got {table[i, 5]!r}")
+        raise ValueError(f"{where}: {path} case {i} speed (column 5) must be >= 0 rpm, got {float(table[i, 5])!r}")
     return np.ascontiguousarray(table)
 
 

@@ -17,7 +17,7 @@ from .kernel import ball_loop, slice_count
 from .linalg import stiffness_solve
 from .roots import cube_root
 from .solver import WORK_ROWS, solve_case, with_warnings
-from .status import CONVERGED, NONFINITE_RESULT, OUTCOME_MASK, UNLOADED
+from .status import BALL_UNSETTLED, CONVERGED, NONFINITE_RESULT, OUTCOME_MASK, UNLOADED
 
 
 @intrinsic
@@ -107,15 +107,17 @@ def solve_sweep(f_targets, q, f, K, status, iterations, residual, evaluations, b
 
 
 @njit(parallel=True, cache=CACHE, error_model=ERROR_MODEL)
-def stiffness_sweep(q, f, K, balls, speeds, block):
+def stiffness_sweep(q, f, K, balls, speeds, block, unsettled):
     """f and Kb at every row of q (N, 5) by direct substitution (case i at ``speeds[i]`` rad/s with a
-    spinning ball set)."""
+    spinning ball set); ``unsettled[i]`` True where at speed some ball's own equilibrium did not settle
+    (f and Kb there are not the model's)."""
     n = q.shape[0]
     n_blocks = (n + block - 1) // block
     for b in prange(n_blocks):
         spin = warm_scratch(balls[4])
         for i in range(b * block, min(n, (b + 1) * block)):
-            ball_loop(q[i], at_speed(balls, speeds, i, spin, True), f[i], K[i], None, None)
+            warnings = ball_loop(q[i], at_speed(balls, speeds, i, spin, True), f[i], K[i], None, None)[2]
+            unsettled[i] = (warnings & BALL_UNSETTLED) != 0
 
 
 @njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)

@@ -63,6 +63,11 @@ def test_double_row_errors_name_the_row():
         fb.Bearing.double("DB", 10.0, axial_preload=[0.0, 0.0, 0.0], **GOOD_ROW)
     with pytest.raises(ValueError, match="axial_offset is set by the arrangement of a double row"):
         fb.Bearing.double("DB", 10.0, axial_offset=3.0, **GOOD_ROW)
+    # the tapered names are for tapered pairs: a ball bearing given one is refused, naming the ball name
+    with pytest.raises(ValueError, match="arrangement is for tapered roller pairs .* so arranged is DF"):
+        fb.Bearing.double("TDI", 10.0, **GOOD_ROW)
+    with pytest.raises(ValueError, match="arrangement is for tapered roller pairs .* so arranged is DB"):
+        fb.Bearing.preset("gunduz2013", "TDO")
 
 
 @pytest.mark.parametrize("rows, words", [([5], "rows[0] must be a table, not int"),

@@ -222,6 +222,19 @@ def test_case_files(tmp_path, suffix):
     np.testing.assert_array_equal(ds["Fx"].values, cases[:, 0])
 
 
+def test_a_case_file_names_the_column_that_is_not_finite(tmp_path):
+    """A NaN in the speed column is named as the speed (issue 33), as one in a load column is named so."""
+    cases = np.array([[1000.0, 0, 2000.0, 0, 0, 3000.0], [1000.0, 0, 2000.0, 0, 0, np.nan]])
+    path = tmp_path / "cases.csv"
+    np.savetxt(path, cases, delimiter=",", header="Fx,Fy,Fz,Mx,My,speed", comments="")
+    with pytest.raises(ValueError, match=r"case 1 column 5 \(speed \(rpm\)\) is not finite \(nan\)"):
+        fb.grid.read_case_file(path, "loadmap.cases")
+    cases[1, 5], cases[0, 2] = 0.0, np.inf
+    np.savetxt(path, cases, delimiter=",")
+    with pytest.raises(ValueError, match=r"case 0 column 2 \(Fz or dz \(N or mm\)\) is not finite \(inf\)"):
+        fb.grid.read_case_file(path, "loadmap.cases")
+
+
 def test_xarray_layout_units_and_provenance(small_map):
     ds = open_dataset(small_map)
     K = ds["K"].sel(Fx=-1200.0, Fz=500.0, My=1.0e5 / 3, method="nearest")

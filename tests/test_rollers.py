@@ -1,7 +1,9 @@
 """Roller rows: sliced line contacts against a slow reference written from the equations, finite
 differences, closed forms, published numbers, and bad input."""
 
+import json
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -427,3 +429,22 @@ def test_an_axial_clearance_is_not_bounded():
     pair = tapered_pair(axial_preload=-0.05)
     r = fb.solve(pair, [3000.0, 0, 1000.0, 0, 0])
     assert r.converged and row_loads(pair, r.q).max() > 0
+
+
+def test_a_single_tapered_row_under_a_pure_radial_load_says_why_it_has_no_solution():
+    """The fixed contact normal turns Fr into an axial load: without at least Fr tan(a) of axial load on its
+    side there is no solution. Said in one line, with no numbers that pass for results (issue 33: it printed
+    `status: singular`, dx = 179 mm, dz = -727 mm and a Kb); with enough axial load it solves."""
+    from conftest import cli_run
+
+    path = Path(__file__).parents[1] / "data" / "bearings" / "30206.toml"
+    b = fb.load_bearing(path)
+    r = fb.solve(b, [5000.0, 0, 0, 0, 0])
+    need = 5000.0 * math.tan(math.radians(b.rows[0].contact_angle))
+    assert not r.converged and "no solution" in r.note and f"{need:g} N" in r.note
+    s = cli_run("solve", "--bearing", path, "--load", "5000,0,0,0,0")
+    assert s.returncode == 1 and "no solution" in s.stdout and "--displacement" in s.stdout
+    assert "q (mm" not in s.stdout and "Kb" not in s.stdout and "dx=" not in s.stdout
+    assert json.loads(cli_run("solve", "--bearing", path, "--load", "5000,0,0,0,0", "--json").stdout)["note"] == r.note
+    ok = fb.solve(b, [5000.0, 0, 2000.0, 0, 0])
+    assert ok.converged and ok.note == "" and "note" not in ok.to_dict()
