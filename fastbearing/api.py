@@ -192,7 +192,7 @@ def speed_ball_set(bearing: Bearing, speed) -> tuple:
     speed = check_speed(speed)
     if speed == 0.0:
         return bearing.ball_set()
-    check_speed_model(bearing)
+    check_speed_model(bearing, speed)
     return bearing.ball_set(speed=speed)
 
 
@@ -208,7 +208,8 @@ def speed_cases(bearing: Bearing, speed, n: int) -> tuple[tuple, np.ndarray]:
         raise validate.FieldError("speed", f"must be one number or one per case ({n}), rpm >= 0", show_value=False)
     if not speeds.any():
         return bearing.ball_set(), np.zeros(0)
-    check_speed_model(bearing)
+    fastest = int(np.argmax(speeds))
+    check_speed_model(bearing, speeds[fastest], "speed" if values.ndim == 0 else f"speed[{fastest}]")
     return bearing.ball_set(speed=0.0), speeds * (np.pi / 30.0)
 
 
@@ -291,16 +292,26 @@ def solve(bearing: Bearing, f, q0=None, method: str = "newton", rtol=None, max_i
     out = solve_case(f_target, q, f_out, K, balls, opts, warm, work, None, None)
     status = int(out.status)
     return SolveResult(q, f_out, K, status, int(out.iterations), float(out.residual), int(out.evaluations),
-                       "" if st.is_converged(status) else no_solution_note(bearing, f_target, status))
+                       "" if st.is_converged(status) else no_solution_note(bearing, f_target, status, speed))
 
 
-def no_solution_note(bearing: Bearing, load, status: int) -> str:
-    """Why a load has no solution in the model, in one line, where the cause is known ("" otherwise): a set
-    of tapered roller rows all facing one way (a single row, a tandem) turns a radial load Fr into an axial
-    one through its fixed contact normal, so it holds Fr only with an axial load of at least Fr tan(a) on its
-    contact side; a ball row can let its balls roll to 0 deg instead."""
+def no_solution_note(bearing: Bearing, load, status: int, speed: float = 0.0) -> str:
+    """Why a load has no solution in the model, in one line, where the cause is known ("" otherwise).
+
+    - A set of tapered roller rows all facing one way (a single row, a tandem) turns a radial load Fr into an
+      axial one through its fixed contact normal, so it holds Fr only with an axial load of at least
+      Fr tan(a) on its contact side (a ball row can let its balls roll to 0 deg instead).
+    - Inner-race control at speed: the inner race's friction, which carries the gyroscopic moment, does not
+      fall with the inner contact's load, so f jumps where balls leave the inner race (docs/model.md, "High
+      speed"); a load inside the jump has no solution.
+    """
     if st.outcome(status) not in (st.SINGULAR, st.STALLED, st.ITERATION_LIMIT):
         return ""
+    if speed > 0 and bearing.ball_rows and getattr(bearing.geometry, "race_control", "outer") == "inner":
+        return (f"no solution found: under inner-race control at {float(speed):g} rpm the inner race's friction, "
+                "which carries the gyroscopic moment, does not fall with the inner contact load, so f jumps where "
+                "balls leave the inner race, and this load may lie in that jump; outer-race control (the default) "
+                "has no such jump")
     rows = [r for _, r in bearing.roller_rows]
     directions = {r.contact_direction for r in rows}
     if bearing.ball_rows or not rows or len(directions) != 1 or min(r.contact_angle for r in rows) <= 0.0:

@@ -71,9 +71,10 @@ def check_speed(speed, name: str = "speed") -> float:
     return validate.number(speed, name, low=0, high=MAX_SPEED, units="rpm")
 
 
-def check_speed_model(bearing) -> None:
+def check_speed_model(bearing, speed: float = 0.0, name: str = "speed") -> None:
     """ValueError unless ``bearing`` can run at speed: ball rows from catalogue geometry (the high-speed
-    model needs the ball diameter, pitch diameter, groove ratios and density), Hertzian (n = 1.5)."""
+    model needs the ball diameter, pitch diameter, groove ratios and density), Hertzian (n = 1.5); and,
+    with ``speed`` (rpm), unless it is within the bearing's :func:`speed_limit` (``name`` the field)."""
     if bearing.roller_rows:
         raise validate.FieldError("speed", "above 0 rpm needs ball rows: the high-speed model (centrifugal force, "
                                   "gyroscopic moment) is not implemented for roller rows; give speed = 0",
@@ -86,6 +87,29 @@ def check_speed_model(bearing) -> None:
                                   "the balls' mass and both race contacts are known", show_value=False)
     if any(r.exponent != 1.5 for _, r in bearing.ball_rows):
         raise validate.FieldError("speed", "above 0 rpm needs Hertzian balls (exponent 1.5)", show_value=False)
+    limit = speed_limit(bearing) if speed > 0.0 else math.inf
+    if speed > limit:
+        raise validate.FieldError(name, f"must be <= {limit:.6g} rpm for {bearing.name or 'this bearing'}: above "
+                                  "it the centrifugal force alone presses a ball into its outer race beyond the "
+                                  "model's validity limit (the row's deflection_limit, by default the 4200 N/mm^2 "
+                                  "Hertz pressure)", speed)
+
+
+def speed_limit(bearing) -> float:
+    """The largest shaft speed in rpm at which no ball's centrifugal force alone, 0.5 m d_m omega_m^2 at the
+    nominal orbital speed, exceeds the load Kn delta_lim^1.5 that takes its contacts to the row's
+    ``deflection_limit`` (by default the 4200 N/mm^2 Hertz pressure of the model's validity): beyond it
+    the balls crush their outer race whatever the load, and the contact model (and float64, near 1e6 rpm)
+    no longer holds. Needs the speed model (:func:`check_speed_model`)."""
+    from .high_speed import COS_NOMINAL, GAMMA, MASS_RADIUS, OUTER_ROTATES
+
+    p = bearing.speed_table
+    table = bearing.ball_table()
+    load = table[KN] * table[DEFLECTION_LIMIT] ** 1.5
+    # omega_m = omega (1 - gamma cos a0)/2 with the inner ring turning, omega (1 + gamma cos a0)/2 the outer
+    cage = 0.5 * (1.0 + np.where(p[OUTER_ROTATES] != 0.0, 1.0, -1.0) * p[GAMMA] * p[COS_NOMINAL])
+    omega = np.sqrt(load / p[MASS_RADIUS]) / cage
+    return float(omega.min() * 30.0 / math.pi) if omega.size else math.inf
 
 
 def free_contact_angle(groove_center_distance: float, contact_angle: float, radial_clearance: float) -> float:

@@ -715,9 +715,9 @@ def _solve(args) -> int:
                          "ratio kappa in [0.1, 4])")
     from .bearing import check_speed_model
 
-    def check_model():
+    def check_model(speed):
         try:
-            check_speed_model(bearing)
+            check_speed_model(bearing, speed, "--speed")
         except ValueError as err:
             raise ValueError(str(err).replace("speed above", "--speed above", 1)) from None
 
@@ -779,7 +779,7 @@ def _shaft_speed(args, shaft) -> tuple[float, float]:
 
 
 def _speed_option(value, life: bool, rollers: bool, check_model, subject: str = "this bearing has"):
-    """--speed in rpm, checked before any kernel runs (finite, >= 0; above 0 only where ``check_model()``
+    """--speed in rpm, checked before any kernel runs (finite, >= 0; above 0 only where ``check_model(speed)``
     passes): (the model's speed, the speed for lives in hours). With roller rows (``rollers``) and --life
     the solve stays quasi-static and the speed gives the lives in hours only (said on stderr)."""
     from .bearing import check_speed
@@ -790,7 +790,7 @@ def _speed_option(value, life: bool, rollers: bool, check_model, subject: str = 
               "solved quasi-statically and --speed gives the lives in hours", file=sys.stderr)
         return 0.0, speed
     if speed > 0:
-        check_model()
+        check_model(speed)
     return speed, speed
 
 

@@ -74,6 +74,12 @@ N_STATE = 9
 N_WARM = 10
 #: Newton iterations a warm start gets before the ball is settled again from :func:`start_position`.
 WARM_ITERATIONS = 12
+#: Below the speed at which every ball's centrifugal force would deflect its outer contact by this much (mm)
+#: the balls stand still (:func:`standing_still`): their loads from it, K_o delta^1.5 ~ 1e-13 N, are far
+#: below any load the solver resolves, while the balls' own equilibrium (F_c ~ omega^2) sinks below float64's
+#: resolution of their positions and the solves failed (issue 33: stalled at 0.001 rpm, iteration_limit at
+#: 1e-9 rpm). So the answer is continuous as the speed goes to 0.
+STILL_DEFLECTION = 1e-12
 
 #: The predicted balls' summaries (:func:`_summary`), CHUNK balls at a time, in the warm scratch's tail rows
 #: read as one flat array with the constant row stride CHUNK: so laid out the loop that fills them
@@ -115,6 +121,21 @@ def _hertz_deflection(Q, k):
         return 0.0
     c = cube_root(Q / k)
     return c * c
+
+
+@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def standing_still(speed_table, omega):
+    """Whether at the shaft speed ``omega`` (rad/s) every ball's centrifugal force at its nominal orbital
+    speed deflects its outer contact by less than STILL_DEFLECTION: then the quasi-static balls are the
+    model to far below the solver's resolution."""
+    for j in range(speed_table.shape[1]):
+        outer = speed_table[OUTER_ROTATES, j]
+        cage = 0.5 * (1.0 + (2.0 * outer - 1.0) * speed_table[GAMMA, j] * speed_table[COS_NOMINAL, j])
+        wm = omega * cage
+        limit = speed_table[K_OUTER, j] * STILL_DEFLECTION * math.sqrt(STILL_DEFLECTION)
+        if speed_table[MASS_RADIUS, j] * wm * wm >= limit:
+            return False
+    return True
 
 
 @njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
@@ -248,17 +269,36 @@ def ball_state(ur, uz, br, bz, p, w_i, w_o, smoothing_eps):
             Qi, Qo, ci, si, co, so, Fc, Mg, wm, delta_i, delta_o)
 
 
-@njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
-def start_position(ur, uz, p, w_i, w_o, smoothing_eps):
-    """First guess of the ball centre B (mm from O, mirrored frame) and whether the ball touches the inner
-    race at all.
+@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def free_position(ur, uz, p, w_i, w_o, smoothing_eps):
+    """Where a ball would sit free of the inner race, and whether the rings leave it room there: on the
+    bottom of the outer groove, B_f = ((f_o - 1/2) D + delta_o(F_c0), 0) under its centrifugal force F_c0 at
+    the nominal orbital speed, clear of the inner race when |u - B_f| <= (f_i - 1/2) D. Whatever the rings'
+    approach at rest: at speed the outer contact's deflection may let a ball out that the rings pinch at
+    rest. Returns (B_f's radial coordinate in mm, room); never room standing still or with the solver's
+    smoothing (its contact law never opens)."""
+    ri, ro = p[INNER_RADIUS], p[OUTER_RADIUS]
+    gamma = p[GAMMA]
+    cos_a = p[COS_NOMINAL]
+    wm = 0.5 * (w_i * (1.0 - gamma * cos_a) + w_o * (1.0 + gamma * cos_a))
+    Fc = p[MASS_RADIUS] * wm * wm
+    br = ro + _hertz_deflection(Fc, p[K_OUTER])
+    vr = ur - br
+    return br, Fc > 0.0 and smoothing_eps == 0.0 and vr * vr + uz * uz <= ri * ri
 
-    A ball the rings leave room for sits on the outer race under its centrifugal force F_c0 (at the nominal
-    orbital speed): when there it stays clear of the inner race it carries nothing to the ring
-    (returns inner_loaded False). Otherwise the guess loads the inner contact with Q_i0 = max(Q, F_c0/4)
-    and the outer with Q_i0 + F_c0 (Q: the quasi-static ball load) and puts B where the two contacts'
-    circles about O and I, of radii (f_o - 1/2) D + delta_o0 and (f_i - 1/2) D + delta_i0, cross on the
-    outer side; at zero speed that is the quasi-static position on the line O-I exactly.
+
+@njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
+def start_position(ur, uz, p, w_i, w_o, smoothing_eps, free_test=True):
+    """First guess of the ball centre B (mm from O, mirrored frame) and whether it is taken touching the
+    inner race.
+
+    With ``free_test``, a ball the rings leave room for (:func:`free_position`) starts there, free (returns
+    inner_loaded False; :func:`settle_ball` then finds its own equilibrium on the outer race). Otherwise the
+    guess loads the inner contact with Q_i0 = max(Q, F_c0/4) and the outer with Q_i0 + F_c0 (Q: the
+    quasi-static ball load) and puts B where the two contacts' circles about O and I, of radii
+    (f_o - 1/2) D + delta_o0 and (f_i - 1/2) D + delta_i0, cross on the outer side; at zero speed that is
+    the quasi-static position on the line O-I exactly (or, out of contact, on that line touching the outer
+    race).
     """
     ri, ro, Ki, Ko = p[INNER_RADIUS], p[OUTER_RADIUS], p[K_INNER], p[K_OUTER]
     A = math.sqrt(ur * ur + uz * uz)
@@ -267,13 +307,12 @@ def start_position(ur, uz, p, w_i, w_o, smoothing_eps):
     cos_a = p[COS_NOMINAL]
     wm = 0.5 * (w_i * (1.0 - gamma * cos_a) + w_o * (1.0 + gamma * cos_a))
     Fc = p[MASS_RADIUS] * wm * wm
-    if delta <= 0.0:
-        br = ro + _hertz_deflection(Fc, Ko)
-        vr = ur - br
-        if Fc == 0.0:  # standing still, out of contact: on the line O-I, touching the outer race
-            return ro * ur / A, ro * uz / A, False
-        if math.sqrt(vr * vr + uz * uz) <= ri:  # room to move out: free on the outer race
+    if free_test:
+        br, room = free_position(ur, uz, p, w_i, w_o, smoothing_eps)
+        if room:
             return br, 0.0, False
+    if delta <= 0.0 and Fc == 0.0:  # standing still, out of contact: on the line O-I, touching the outer race
+        return ro * ur / A, ro * uz / A, False
     d_o = p[OUTER_SHARE] * max(delta, 0.0)
     Q = Ko * d_o * math.sqrt(d_o)
     Qi = max(Q, 0.25 * Fc)
@@ -288,6 +327,15 @@ def start_position(ur, uz, p, w_i, w_o, smoothing_eps):
     # the crossing on the outer side (F_c pushes the ball outward)
     pr, pz = (ez, -er) if ez >= 0.0 else (-ez, er)
     return x * er + h * pr, x * ez + h * pz, True
+
+
+@njit(inline="always")
+def free_constants(p):
+    """A ball's column of the speed table as it is free of the inner race: no inner contact (K_i = 0) and
+    so no friction there; the outer race alone carries the gyroscopic moment (lambda_o = lambda_i +
+    lambda_o: 2, or 0 with race control "none") and sets the spin axis (outer control)."""
+    return (p[0], p[1], 0.0, p[3], p[4], p[5], p[6], 0.0, p[LAMBDA_INNER] + p[LAMBDA_OUTER], 0.0, p[10], p[11],
+            p[12], p[13], p[14])
 
 
 #: start_position inlined, for the loop over a chunk of cold balls (a call would keep it scalar)
@@ -375,34 +423,33 @@ def _newton(ur, uz, br, bz, p, w_i, w_o, smoothing_eps, max_iterations, linearis
 
 @njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
 def settle_ball(ur, uz, p, w_i, w_o, smoothing_eps, warm_br=0.0, warm_bz=0.0, warm=False, linearise=False):
-    """Settle one ball: Newton on g(B) = 0 from the warm start (warm_br, warm_bz) when ``warm`` and both
-    its contacts are closed there, else (or when the warm start does not settle in WARM_ITERATIONS)
-    from :func:`start_position`; with ``linearise``, to the first short step (:func:`_newton`).
+    """Settle one ball, by one rule whatever the history (a warm start only shortens the way):
+
+    1. Where the rings leave it room (:func:`free_position`), the ball's own equilibrium on the outer race
+       alone (:func:`free_constants`: Newton from B_f). If that clears the inner race, the ball is free:
+       returns iterations -1, settled, with its state there (Q_i = 0: nothing for the ring).
+    2. Otherwise the ball is wedged between the races: Newton on g(B) = 0 from the warm start (warm_br,
+       warm_bz) when ``warm`` (kept if it settles with both contacts closed within WARM_ITERATIONS), else
+       from :func:`start_position`'s wedged guess; with ``linearise``, to the first short step
+       (:func:`_newton`).
 
     Returns (state tuple of :func:`ball_state` at B, br, bz, iterations, settled, dB_r, dB_z, exact): the
-    solution is B + dB (dB = 0 unless linearised). A ball the rings leave free returns iterations -1,
-    settled, with its state at the free position (Q_i = 0: nothing for the ring).
+    solution is B + dB (dB = 0 unless linearised).
     """
-    A = math.sqrt(ur * ur + uz * uz)
-    # only a ring approach that leaves room for the ball may free it: start_position tells
-    pinched = A - p[INNER_RADIUS] - p[OUTER_RADIUS] > 0.0 or smoothing_eps > 0.0
-    if not pinched or not warm:
-        br, bz, loaded = start_position(ur, uz, p, w_i, w_o, smoothing_eps)
-    else:
-        br, bz, loaded = warm_br, warm_bz, True
-    if warm and loaded:
+    brf, room = free_position(ur, uz, p, w_i, w_o, smoothing_eps)
+    if room:
         # the iteration limits typed as int64, not literals: numba would compile _newton (and the ball state
         # inlined in it) once per literal, about 1.7 s each
+        st, br, bz, it, settled, _, _, _ = _newton(ur, uz, brf, 0.0, free_constants(p), w_i, w_o, smoothing_eps,
+                                                   np.int64(BALL_ITERATIONS), False)
+        if settled and st[34] <= 0.0:
+            return st, br, bz, -1, True, 0.0, 0.0, True
+    if warm:
         st, wbr, wbz, it, settled, db_r, db_z, exact = _newton(ur, uz, warm_br, warm_bz, p, w_i, w_o,
                                                                smoothing_eps, np.int64(WARM_ITERATIONS), linearise)
         if settled and st[34] > 0.0 and st[35] > 0.0:
             return st, wbr, wbz, it, True, db_r, db_z, exact
-        if pinched:  # the warm start failed: start over from the usual guess
-            br, bz, loaded = start_position(ur, uz, p, w_i, w_o, smoothing_eps)
-    if not loaded:
-        # the state where it sits (through _newton with no iteration: one inlined ball_state fewer to compile)
-        st = _newton(ur, uz, br, bz, p, w_i, w_o, smoothing_eps, 0, False)[0]
-        return st, br, bz, -1, True, 0.0, 0.0, True
+    br, bz, _ = start_position(ur, uz, p, w_i, w_o, smoothing_eps, False)
     return _newton(ur, uz, br, bz, p, w_i, w_o, smoothing_eps, np.int64(BALL_ITERATIONS), linearise)
 
 
@@ -543,7 +590,7 @@ def _prediction(warm, j, ur, uz):
 @njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
 def _predicted_chunk(q, table, speed_table, omega, eps, warm, out, j0, m, linearise, cold):
     """Balls j0 .. j0+m-1 at their first-order predictions from ``warm`` (``cold``: at their cold guesses,
-    :func:`start_position`, S_LOADED saying whether it touches the inner race): state, judgement
+    :func:`start_position`; S_LOADED 0 where the rings leave the ball room to be free): state, judgement
     (:func:`_judge`; where it says STEP, the step's end as the centre) and :func:`_summary` into ``out``
     (flat, field k of ball j0+i at k*CHUNK + i).
     Branch-free passes over the balls, so that they vectorise; a ball without a warm start in a warm
@@ -552,10 +599,9 @@ def _predicted_chunk(q, table, speed_table, omega, eps, warm, out, j0, m, linear
         for i in range(m):
             ur, uz = _inner_centre(q, table, j0 + i)
             p, w_i, w_o = _ball_constants(speed_table, j0 + i, omega)
-            br, bz, loaded = _start_inline(ur, uz, p, w_i, w_o, eps)
+            br, bz, _ = _start_inline(ur, uz, p, w_i, w_o, eps)
             out[S_BR * CHUNK + i] = br
             out[S_BZ * CHUNK + i] = bz
-            out[S_LOADED * CHUNK + i] = 1.0 if loaded else 0.0
     for i in range(m):
         j = j0 + i
         ur, uz = _inner_centre(q, table, j)
@@ -564,6 +610,8 @@ def _predicted_chunk(q, table, speed_table, omega, eps, warm, out, j0, m, linear
         if cold:
             br = out[S_BR * CHUNK + i]
             bz = out[S_BZ * CHUNK + i]
+        # room to be free (warm or cold alike: the ball's state must not depend on the history)
+        out[S_LOADED * CHUNK + i] = 0.0 if free_position(ur, uz, p, w_i, w_o, eps)[1] else 1.0
         st = ball_state(ur, uz, br, bz, p, w_i, w_o, eps)
         reach = p[INNER_RADIUS] + p[OUTER_RADIUS] + abs(ur) + abs(uz)
         verdict, db_r, db_z, exact = _judge(st, reach, linearise)
@@ -649,23 +697,19 @@ def _ball_pass(q, table, speed_table, omega, eps, ball_load, contact_angle, stat
             iterations = 0
             settled = True
             start = False  # (br, bz) is a start for a settle: the prediction
+            room = out[S_LOADED * CHUNK + i] == 0.0
             if cold:
-                # settled or linearised at the cold guess, or free there: what settle_ball would return (a ball
-                # that needs a step is settled by it from the step's end, its next iterate)
-                resettle = verdict == STEP
-                start = resettle
-                if out[S_LOADED * CHUNK + i] == 0.0:
-                    # free (on the outer race, clear of the inner): it carries nothing to the ring, and is not a
-                    # warm start (iterations -1); its state is the one at the guess
-                    resettle = False
-                    iterations = -1
-                    db_r = db_z = 0.0
-                    exact = True
+                # settled or linearised at the cold guess: what settle_ball would return (a ball that needs a
+                # step is settled by it from the step's end, its next iterate); room to be free: settle_ball
+                # decides, from its free equilibrium
+                resettle = verdict == STEP or room
+                start = verdict == STEP and not room
             elif warm[WARM_VALID, j] != 0.0:
                 start = True
-                # both contacts closed at a settled or nearly settled centre: the ball's one equilibrium (its
-                # potential is convex where it touches a race); a step to take or a contact open: settle
-                resettle = verdict == STEP or not (sm[S_DI] > 0.0 and sm[S_DO] > 0.0)
+                # both contacts closed at a settled or nearly settled centre, and no room to be free: the ball's
+                # one equilibrium (its potential is convex where it touches a race); a step to take, a contact
+                # open or room to be free: settle
+                resettle = verdict == STEP or not (sm[S_DI] > 0.0 and sm[S_DO] > 0.0) or room
             else:
                 resettle = True  # no warm start (free at the last evaluation): from the cold guess
             if resettle:
@@ -710,10 +754,8 @@ def _ball_pass(q, table, speed_table, omega, eps, ball_load, contact_angle, stat
                 states[j, STATE_GYROSCOPIC] = Mg
                 states[j, STATE_ORBITAL_SPEED] = wm
                 states[j, STATE_ITERATIONS] = iterations
-                # the equilibrium residual relative to the ball's largest force (0 for a free ball: not solved,
-                # it carries nothing to the ring)
-                states[j, STATE_RESIDUAL] = 0.0 if iterations < 0 else (
-                    max(abs(sm[S_GR]), abs(sm[S_GZ])) / max(Qi + Qo + abs(Fc), 1e-300))
+                # the equilibrium residual relative to the ball's largest force (a free ball's on the outer race)
+                states[j, STATE_RESIDUAL] = max(abs(sm[S_GR]), abs(sm[S_GZ])) / max(Qi + Qo + abs(Fc), 1e-300)
         sums = _ring_sums(sums, table, out, j0, m, eps)
     return sums, total, n_loaded, flags
 

@@ -22,7 +22,7 @@ from .bearing import (A0, AXIAL_OFFSET, BALL_OF, COS_PSI, DEFLECTION_LIMIT, DIRE
                       MIRROR_HALF, MIRROR_OF, PITCH_RADIUS, SHARE, SIN_PSI, UR0, UZ0, WEIGHT)
 from .config import CACHE, ERROR_MODEL, KERNEL_FASTMATH, REFCOUNT
 from .deflection import smoothed_deflection
-from .high_speed import spinning_balls
+from .high_speed import spinning_balls, standing_still
 from .roots import ninth_root
 from .status import BALL_LINEARISED, BALL_UNSETTLED, BEYOND_VALIDITY, CONTACT_REVERSED
 from .trig import atan2
@@ -252,7 +252,8 @@ def _ball_rows(q, table, exponent, smoothing, speed_table, omega, warm, f, K, ba
         return quasi_static
 
     def at_speed(q, table, exponent, smoothing, speed_table, omega, warm, f, K, ball_load, contact_angle):
-        if omega == 0.0:  # standing still: the quasi-static balls exactly
+        if omega == 0.0 or standing_still(speed_table, omega):  # the quasi-static balls exactly (below
+            # high_speed.STILL_DEFLECTION the centrifugal force is far below the solver's resolution)
             return quasi_static_balls(q, table, exponent, smoothing, f, K, ball_load, contact_angle)
         total, n_loaded, flags = spinning_balls(q, table, speed_table, omega, smoothing_eps(smoothing), f, K,
                                                 ball_load, contact_angle, None, warm)

@@ -568,8 +568,7 @@ def rating_life(bearing, load, *, q=None, rotating: str = "inner", speed=None, k
         else:
             from .bearing import check_speed, check_speed_model
 
-            check_speed(settings.speed)
-            check_speed_model(bearing)
+            check_speed_model(bearing, check_speed(settings.speed))
             model_speed = settings.speed
             settings = replace(settings, balls_at_speed=True)
     if q is None:

@@ -110,7 +110,7 @@ def read_config(config) -> LoadMapConfig:
     cases.check_size("loadmap")
     if cases.max_speed > 0:
         try:
-            check_speed_model(bearing)
+            check_speed_model(bearing, cases.max_speed)
         except validate.FieldError as err:
             raise err.within("loadmap") from None
     life_settings = read_life(spec.get("life"), "loadmap.life")

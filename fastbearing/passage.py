@@ -123,7 +123,7 @@ def read_config(config) -> PassageConfig:
     model_speed = check_speed(spec.get("speed", 0.0), "passage.speed")
     if model_speed > 0:
         try:
-            check_speed_model(bearing)
+            check_speed_model(bearing, model_speed)
         except validate.FieldError as err:
             raise err.within("passage") from None
     speed = None

@@ -103,12 +103,12 @@ class Shaft:
             raise ValueError(f"shaft.reference must be finite (mm), got {self.reference!r}")
         check_speed(self.speed, "shaft.speed")
 
-    def check_speed_model(self) -> None:
+    def check_speed_model(self, speed: float = 0.0) -> None:
         """ValueError naming ``shaft.bearings[i].speed`` unless every bearing can run at speed (ball rows
-        from catalogue geometry)."""
+        from catalogue geometry), at ``speed`` (rpm) within its speed limit (bearing.speed_limit)."""
         for i, mb in enumerate(self.bearings):
             try:
-                check_speed_model(mb.bearing)
+                check_speed_model(mb.bearing, speed)
             except validate.FieldError as err:
                 raise err.within(f"shaft.bearings[{i}]") from None
 
@@ -182,6 +182,8 @@ def solve_shaft(shaft: Shaft, method: str = "newton", speed: float | None = None
     (fastbearing.high_speed; K_system is then not quite symmetric).
     """
     speed = shaft.speed if speed is None else check_speed(speed, "speed")
+    if speed > 0:
+        shaft.check_speed_model(speed)
     combined = shaft.as_bearing(at_speed=speed > 0)
     result = solve(combined, shaft.external_load(), method=method, speed=speed)
     states = []
@@ -306,5 +308,5 @@ def read_shaft(config) -> Shaft:
     speed = check_speed(spec.get("speed", 0.0), "shaft.speed")
     shaft = Shaft(reference, tuple(bearings), tuple(loads), inertia, speed)
     if speed > 0:
-        shaft.check_speed_model()
+        shaft.check_speed_model(speed)
     return shaft

@@ -37,7 +37,7 @@ from numba import njit
 from .config import (CACHE, DIVERGED_REACH, ERROR_MODEL, FASTMATH, NEWTON, RECORD_AHEAD, REFCOUNT,
                      SEARCH_CURVATURE, SEARCH_TRIALS, SMOOTHING_FIRST, SMOOTHING_LAST, SMOOTHING_RATIO, SMOOTHING_RTOL, STAGNATION_ITERATIONS,
                      STILL_START_RTOL)
-from .high_speed import WARM_LINEARISE
+from .high_speed import WARM_LINEARISE, WARM_VALID
 from .kernel import SETTLE_PASSES, ball_loop, settled_loop, slice_reach
 from .linalg import ldl_solve, lu_solve, stiffness_solve
 from .status import (BALL_EQUILIBRIUM, BALL_LINEARISED, BALL_UNSETTLED, CONVERGED, ITERATION_LIMIT, NONFINITE_INPUT,
@@ -539,6 +539,15 @@ def _take_linearised(spin, allowed):
             spin[WARM_LINEARISE, 0] = 1.0 if allowed else 0.0
 
 
+@njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
+def _forget_balls(spin):
+    """Drop the balls' warm starts (scratch ``spin``, None without speed): the next evaluation settles every
+    ball from its cold guess."""
+    if spin is not None:  # pruned while typing for a ball set without speed
+        for j in range(spin.shape[1]):
+            spin[WARM_VALID, j] = 0.0
+
+
 @njit(cache=CACHE, fastmath=FASTMATH, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
 def solve_case(f_target, q, f, K, balls, settings, warm, work, ball_load, contact_angle):
     """Find q with f(q) = f_target; fill q (5), f (5) and Kb (5x5) in place.
@@ -640,6 +649,21 @@ def solve_case(f_target, q, f, K, balls, settings, warm, work, ball_load, contac
         evals += ev
         if status == CONVERGED:
             break
+    if status != CONVERGED and balls[5] != 0.0 and scale > 0.0:
+        # spinning: from the balls standing still, solved to the tolerance (the rough start above can leave a
+        # light load far off along a soft direction): at low speeds the answer is next to it
+        _forget_balls(spin)  # the failed attempts' ball centres are no start
+        ev, it, still = _still_start(f_target, q, f, K, balls, settings, tol, arm, reach, D, work, ball_load,
+                                     contact_angle)
+        evals += ev
+        iterations += it
+        if still and _all_finite(q, f, K):
+            total, n_loaded, warn = ball_loop(q, balls, f, K, None, None)
+            status, it, rmax, ev, total, warn, recorded = _descend(f_target, q, f, K, total, n_loaded, warn, balls,
+                                                                    settings, tol, arm, reach, D, work, ball_load,
+                                                                    contact_angle)
+            iterations += it
+            evals += ev + 1
     if status != CONVERGED:
         status, it, rmax, ev, total, warn = _smoothing_continuation(f_target, q, f, K, balls, settings, tol, arm,
                                                                      reach, D, work)

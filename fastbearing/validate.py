@@ -30,7 +30,10 @@ class FieldError(ValueError):
         super().__init__(self._text())
 
     def _text(self) -> str:
-        got = f", got {self.value!r}" if self.show_value else ""
+        value = self.value
+        if type(value).__module__ == "numpy" and hasattr(value, "item") and getattr(value, "ndim", 1) == 0:
+            value = value.item()  # 5000.0, not np.float64(5000.0)
+        got = f", got {value!r}" if self.show_value else ""
         return f"{self.field} {self.rule}{got}" if self.field else f"{self.rule}{got}"
 
     def within(self, prefix: str) -> "FieldError":

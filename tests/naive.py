@@ -360,7 +360,7 @@ def load_extended(q, rows):
 
 
 # --------------------------------------------------------------------------
-# Roller slices in extended precision (docs/model.md, "Roller slices")
+# Roller slices in extended precision (docs/model.md, "Roller slices (cylindrical and tapered roller rows)")
 # --------------------------------------------------------------------------
 def crown_drop_extended(row, x):
     """c(x) in mm of a fastbearing.RollerRow at slice positions x (np.longdouble, mm from the roller's
@@ -380,8 +380,8 @@ def crown_drop_extended(row, x):
 def roller_load_extended(q, bearing):
     """f (5,) of a fastbearing.Bearing's roller rows in np.longdouble (N, N*mm), slice by slice.
 
-    Written from docs/model.md, "Roller slices": slice k of a roller at azimuth psi sits at
-    x_k = -l/2 + (k + 1/2) w (w = l/S), radius R_k = R - s x_k sin a and axial place z_k = z_r + x_k cos a;
+    Written from docs/model.md, "Roller slices (cylindrical and tapered roller rows)": slice k of a roller at
+    azimuth psi sits at x_k = -l/2 + (k + 1/2) w (w = l/S), radius R_k = R - s x_k sin a and axial place z_k = z_r + x_k cos a;
     its approach along n = (cos a, s sin a) is n . (dr_k, dz_k) + d0 sin a - rL cos a - c(x_k) (an axial
     preload d0 presses the row whatever its contact direction s, as a ball row's s d0 on the axial
     approach does), its load q_k = (w/l) K max(delta_k, 0)^(10/9), and it adds q_k g_k to f with

@@ -10,7 +10,7 @@ precision limit where float64 cannot resolve the load (and then the flag
 must be justified). Every converged q is checked with Eq. (12) evaluated in
 extended precision (tests/naive.py): its true residual is within rtol. The
 roller bearings (NU 205, the 30206 pairs) get the same check, their f from
-the slice equations (docs/model.md, "Roller slices") in extended precision.
+the slice equations (docs/model.md, "Roller slices (cylindrical and tapered roller rows)") in extended precision.
 """
 
 from dataclasses import replace
