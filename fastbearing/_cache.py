@@ -8,19 +8,49 @@ may keep this package's cache: ``__pycache__`` beside the sources, the
 user-wide fallback when that is read-only, or ``NUMBA_CACHE_DIR`` when set.
 """
 
+import functools
 import hashlib
+import re
 from pathlib import Path
 
 _PACKAGE = Path(__file__).parent
-#: Modules holding @njit code (and the constants it compiles in: bearing.py's ball-table rows).
-KERNEL_MODULES = ("config.py", "status.py", "roots.py", "trig.py", "deflection.py", "high_speed.py", "kernel.py",
-                  "linalg.py", "solver.py", "sweep.py", "bearing.py")
 _STAMP_NAME = "fastbearing-numba-cache.stamp"
+#: A module holds kernels when it compiles any: njit, numba's overload or intrinsic (plain substrings: this
+#: runs before every command's first kernel, and a regular expression over every source cost 15 ms).
+_KERNEL_CODE = ("@njit", "njit(", "@overload", "@intrinsic", "@generated_jit")
+_FROM_MODULE = re.compile(r"^\s*from \.(\w+)", re.M)
+_FROM_PACKAGE = re.compile(r"^\s*from \. import \(?([\w, ]+)", re.M)
+
+
+@functools.lru_cache(maxsize=1)
+def kernel_modules() -> tuple[str, ...]:
+    """The package's files whose change must drop the cached machine code, found from the sources (no hand
+    list): every module with kernel code, and every package module those import from (constants such as
+    schema.py's table rows are compiled into the kernels), transitively."""
+    sources = {path.name: path.read_text() for path in _PACKAGE.glob("*.py") if path.name != "_cache.py"}
+    found = {name for name, text in sources.items() if any(mark in text for mark in _KERNEL_CODE)}
+    todo = list(found)
+    while todo:
+        for imported in _package_imports(sources[todo.pop()]):
+            if imported in sources and imported not in found:
+                found.add(imported)
+                todo.append(imported)
+    return tuple(sorted(found))
+
+
+def _package_imports(text: str) -> set[str]:
+    """File names of the package modules a source imports (``from .x import``, ``from . import x``); a
+    regular expression, not a parse: this runs before every command's first kernel."""
+    names = {m + ".py" for m in _FROM_MODULE.findall(text)}
+    for group in _FROM_PACKAGE.findall(text):
+        names.update(n.strip().split(" ")[0] + ".py" for n in group.split(",") if n.strip())
+    return names
 
 
 def source_hash() -> str:
+    """SHA-256 of the kernel modules' names and sources (:func:`kernel_modules`)."""
     h = hashlib.sha256()
-    for name in KERNEL_MODULES:
+    for name in kernel_modules():
         h.update(name.encode())
         h.update((_PACKAGE / name).read_bytes())
     return h.hexdigest()
@@ -53,7 +83,7 @@ def ensure_fresh() -> None:
             if stamp.exists() and stamp.read_text() == digest:
                 continue
             if folder.is_dir():
-                for module in KERNEL_MODULES:
+                for module in kernel_modules():
                     for stale in folder.glob(f"{Path(module).stem}.*.nb[ic]"):
                         stale.unlink(missing_ok=True)
             folder.mkdir(parents=True, exist_ok=True)

@@ -18,6 +18,10 @@ from importlib import resources
 import numpy as np
 
 from . import validate
+# the ball table's layout, re-exported where the table is built
+from .schema import (A0, AXIAL_OFFSET, BALL_OF, COS_NOMINAL, COS_PSI, DEFLECTION_LIMIT, DIRECTION, EXPONENT,  # noqa: F401
+                     GAMMA, GAP2, HALF_COUNT, KN, MASS_RADIUS, MIRROR_HALF, MIRROR_OF, N_BALL_COLUMNS, N_BALL_FIELDS,
+                     N_SPEED_COLUMNS, OUTER_ROTATES, PITCH_RADIUS, ROW, SHARE, SIN_PSI, UR0, UZ0, WEIGHT)
 from .rollers import (N_SLICE_COLUMNS, REQUIRED_ROLLER_KEYS, ROLLER_ELEMENTS, ROLLER_KEYS, RollerRow,
                       slice_table)
 
@@ -28,20 +32,6 @@ ARRANGEMENT_ALIASES = {"TDO": "DB", "TDI": "DF"}
 #: Contact direction (the paper's c3) of (row at z = -e, row at z = +e).
 _DOUBLE_ROW_DIRECTIONS = {"DB": (1, -1), "DF": (-1, 1), "DT": (1, 1)}
 
-# Rows of the per-ball table the kernel reads (column j is ball j; rows are quantities). WEIGHT is how many
-# balls a column stands for (1, or 2 in the mirror half below) and SHARE its inverse.
-(COS_PSI, SIN_PSI, AXIAL_OFFSET, PITCH_RADIUS, UR0, UZ0, A0, KN, EXPONENT, ROW, DIRECTION, GAP2,
- DEFLECTION_LIMIT, WEIGHT, SHARE) = range(15)
-N_BALL_FIELDS = 15
-#: The mirror half of the ball set (rows MIRROR_HALF + field, columns 0 .. count - 1): where every row's balls
-#: pair up across the xz-plane (psi -> -psi), one column per pair (its lower ball index, WEIGHT 2, Kn doubled)
-#: and per ball on the plane (WEIGHT 1); BALL_OF and MIRROR_OF give each column's ball and its image (the
-#: ball itself on the plane), HALF_COUNT (in every column) the number of columns, 0 where the set has no
-#: such symmetry. Under a planar displacement (dy = bx = 0) a pair's balls carry the same load, so the
-#: kernel sums this half.
-MIRROR_HALF = N_BALL_FIELDS
-BALL_OF, MIRROR_OF, HALF_COUNT = 2 * N_BALL_FIELDS, 2 * N_BALL_FIELDS + 1, 2 * N_BALL_FIELDS + 2
-N_BALL_COLUMNS = 2 * N_BALL_FIELDS + 3
 #: How close (rad) a row's first ball must sit to a multiple of pi / Z for the row to be its own mirror image.
 MIRROR_ANGLE_TOL = 1e-9
 
@@ -101,8 +91,6 @@ def speed_limit(bearing) -> float:
     ``deflection_limit`` (by default the 4200 N/mm^2 Hertz pressure of the model's validity): beyond it
     the balls crush their outer race whatever the load, and the contact model (and float64, near 1e6 rpm)
     no longer holds. Needs the speed model (:func:`check_speed_model`)."""
-    from .high_speed import COS_NOMINAL, GAMMA, MASS_RADIUS, OUTER_ROTATES
-
     p = bearing.speed_table
     table = bearing.ball_table()
     load = table[KN] * table[DEFLECTION_LIMIT] ** 1.5
@@ -522,8 +510,6 @@ class Bearing:
     def speed_table(self) -> np.ndarray:
         """Per-ball constants of the high-speed model, (high_speed.N_SPEED_COLUMNS, n_balls), from the
         bearing's geometry (Geometry.speed_columns); ValueError when the bearing has none."""
-        from .high_speed import N_SPEED_COLUMNS
-
         check_speed_model(self)
         table = np.empty((N_SPEED_COLUMNS, self.n_balls))
         # a geometry may give each row's constants itself (a shaft's rows come from several bearings)

@@ -14,6 +14,7 @@ from dataclasses import dataclass, fields
 import numpy as np
 
 from . import high_speed as hs
+from . import schema
 from .api import _as_vector, ball_loads, speed_ball_set
 from .bearing import COS_PSI, EXPONENT, KN, SIN_PSI, Bearing, check_speed
 from .geometry import HertzContact
@@ -240,18 +241,18 @@ def _spinning_contacts(bearing: Bearing, q, speed) -> BallContacts:
     q = _as_vector(q, "q", "dx, dy, dz in mm; bx, by in rad")
     table, _, _, _, speed_table, omega, _ = speed_ball_set(bearing, speed)
     n = bearing.n_balls
-    states = np.empty((n, hs.N_STATE))
+    states = np.empty((n, schema.N_STATE))
     Q = np.empty(n)
     alpha = np.empty(n)
     hs.spinning_balls(q, table, speed_table, omega, 0.0, np.empty(5), None, Q, alpha, states, hs.new_warm(n))
-    Qo = states[:, hs.STATE_OUTER_LOAD]
+    Qo = states[:, schema.STATE_OUTER_LOAD]
     geometry = bearing.geometry
     # each contact's deflection from its own load and Hertz constant
-    delta = ((Q / speed_table[hs.K_INNER]) ** (2.0 / 3.0) + (Qo / speed_table[hs.K_OUTER]) ** (2.0 / 3.0))
+    delta = ((Q / speed_table[schema.K_INNER]) ** (2.0 / 3.0) + (Qo / speed_table[schema.K_OUTER]) ** (2.0 / 3.0))
     out = {k: np.zeros(n) for k in ("inner_max_pressure", "inner_semi_major", "inner_semi_minor",
                                      "outer_max_pressure", "outer_semi_major", "outer_semi_minor")}
-    for side, loads, angles in (("inner", Q, states[:, hs.STATE_INNER_ANGLE]),
-                                ("outer", Qo, states[:, hs.STATE_OUTER_ANGLE])):
+    for side, loads, angles in (("inner", Q, states[:, schema.STATE_INNER_ANGLE]),
+                                ("outer", Qo, states[:, schema.STATE_OUTER_ANGLE])):
         for i in np.flatnonzero(loads > 0):
             contact = geometry.contacts(abs(float(angles[i])))[0 if side == "inner" else 1]
             _fill_contact(out, side, i, contact, loads[i])
@@ -259,10 +260,10 @@ def _spinning_contacts(bearing: Bearing, q, speed) -> BallContacts:
     ball = np.concatenate([np.arange(r.n_balls) for _, r in bearing.ball_rows])
     return BallContacts(row=bearing.element_rows, ball=ball, azimuth=azimuth, deflection=delta, load=Q,
                         contact_angle=alpha, **out,
-                        inner_contact_angle=states[:, hs.STATE_INNER_ANGLE].copy(),
-                        outer_contact_angle=states[:, hs.STATE_OUTER_ANGLE].copy(),
+                        inner_contact_angle=states[:, schema.STATE_INNER_ANGLE].copy(),
+                        outer_contact_angle=states[:, schema.STATE_OUTER_ANGLE].copy(),
                         inner_load=Q.copy(), outer_load=Qo.copy(),
-                        centrifugal_force=states[:, hs.STATE_CENTRIFUGAL].copy(),
-                        gyroscopic_moment=states[:, hs.STATE_GYROSCOPIC].copy(),
-                        orbital_speed=states[:, hs.STATE_ORBITAL_SPEED].copy(),
-                        equilibrium_residual=states[:, hs.STATE_RESIDUAL].copy())
+                        centrifugal_force=states[:, schema.STATE_CENTRIFUGAL].copy(),
+                        gyroscopic_moment=states[:, schema.STATE_GYROSCOPIC].copy(),
+                        orbital_speed=states[:, schema.STATE_ORBITAL_SPEED].copy(),
+                        equilibrium_residual=states[:, schema.STATE_RESIDUAL].copy())

@@ -41,12 +41,20 @@ from numba import njit
 from .config import CACHE, ERROR_MODEL, KERNEL_FASTMATH, REFCOUNT
 from .deflection import deflection
 from .roots import cube_root
+from .schema import (AXIAL_OFFSET, BS_CI, BS_CO, BS_DI, BS_DO, BS_FB_RR, BS_FB_RZ, BS_FB_ZR, BS_FB_ZZ, BS_FC, BS_FR,
+                     BS_FU_RR, BS_FU_RZ, BS_FU_ZR, BS_FU_ZZ, BS_FZ, BS_GB_RR, BS_GB_RZ, BS_GB_ZR, BS_GB_ZZ, BS_GR,
+                     BS_GU_RR, BS_GU_RZ, BS_GU_ZR, BS_GU_ZZ, BS_GZ, BS_M, BS_MB_R, BS_MB_Z, BS_MG, BS_MU_R, BS_MU_Z,
+                     BS_QI, BS_QO, BS_SI, BS_SO, BS_WM, CHUNK, COS_NOMINAL, COS_PSI, DEFLECTION_LIMIT, DIAMETER,
+                     DIRECTION, GAMMA, INERTIA, INNER_ARM, INNER_CONTROL, INNER_RADIUS, K_INNER, K_OUTER,
+                     LAMBDA_INNER, LAMBDA_OUTER, MASS_RADIUS, N_SUMMARY, N_WARM,
+                     OUTER_RADIUS, OUTER_ROTATES, OUTER_SHARE, PITCH_RADIUS, SIN_PSI, SM_BR, SM_BZ, SM_CI, SM_CO,
+                     SM_DBR, SM_DBZ, SM_DI, SM_DO, SM_EXACT, SM_FC, SM_FR, SM_FZ, SM_GR, SM_GZ, SM_K00, SM_K01,
+                     SM_K10, SM_K11, SM_LOADED, SM_M, SM_M0, SM_M1, SM_MG, SM_QI, SM_QO, SM_SI, SM_SO, SM_UR, SM_UZ,
+                     SM_VERDICT, SM_WM, SM_X00, SM_X01, SM_X10, SM_X11, STATE_CENTRIFUGAL, STATE_GYROSCOPIC,
+                     STATE_INNER_ANGLE, STATE_INNER_LOAD, STATE_ITERATIONS, STATE_ORBITAL_SPEED, STATE_OUTER_ANGLE,
+                     STATE_OUTER_LOAD, STATE_RESIDUAL, UR0, UZ0, WARM_BR, WARM_BZ, WARM_LINEARISE, WARM_UR, WARM_UZ,
+                     WARM_VALID, WARM_X00, WARM_X01, WARM_X10, WARM_X11)
 from .trig import atan2
-
-# Rows of the per-ball high-speed table (column j is ball j, aligned with the ball table).
-(INNER_RADIUS, OUTER_RADIUS, K_INNER, K_OUTER, MASS_RADIUS, INERTIA, GAMMA, LAMBDA_INNER, LAMBDA_OUTER,
- INNER_CONTROL, OUTER_ROTATES, INNER_ARM, DIAMETER, OUTER_SHARE, COS_NOMINAL) = range(15)
-N_SPEED_COLUMNS = 15
 
 #: Newton iterations allowed per ball, and the relative residual at which a ball is in equilibrium.
 BALL_ITERATIONS = 40
@@ -60,18 +68,6 @@ BALL_RTOL = 1e-13
 LINEAR_REACH = 0.1
 LINEAR_RTOL = 1e-11
 
-#: Fields of a ball's state record (solve --balls at speed): row j of an (n_balls, N_STATE) array.
-(STATE_INNER_LOAD, STATE_OUTER_LOAD, STATE_INNER_ANGLE, STATE_OUTER_ANGLE, STATE_CENTRIFUGAL, STATE_GYROSCOPIC,
- STATE_ORBITAL_SPEED, STATE_ITERATIONS, STATE_RESIDUAL) = range(9)  # iterations -1: a free ball
-N_STATE = 9
-
-#: Rows of a ball set's warm-start scratch (N_WARM, n_balls): each ball's settled centre B, the inner groove
-#: centre u it was settled for and X = G_B^-1 G_u there, so that the next evaluation starts from the
-#: first-order prediction B - X (u' - u); WARM_VALID 0: no start stored (a free or unsettled ball).
-#: WARM_LINEARISE (its first cell only): set by the solver for the length of a solve, which takes
-#: linearised balls (:func:`_newton`); 0 everywhere else, so that any other evaluation is the model's.
-(WARM_BR, WARM_BZ, WARM_UR, WARM_UZ, WARM_X00, WARM_X01, WARM_X10, WARM_X11, WARM_VALID, WARM_LINEARISE) = range(10)
-N_WARM = 10
 #: Newton iterations a warm start gets before the ball is settled again from :func:`start_position`.
 WARM_ITERATIONS = 12
 #: Below the speed at which every ball's centrifugal force would deflect its outer contact by this much (mm)
@@ -80,17 +76,6 @@ WARM_ITERATIONS = 12
 #: resolution of their positions and the solves failed (issue 33: stalled at 0.001 rpm, iteration_limit at
 #: 1e-9 rpm). So the answer is continuous as the speed goes to 0.
 STILL_DEFLECTION = 1e-12
-
-#: The predicted balls' summaries (:func:`_summary`), CHUNK balls at a time, in the warm scratch's tail rows
-#: read as one flat array with the constant row stride CHUNK: so laid out the loop that fills them
-#: vectorises (4 balls per AVX2 instruction); written to the rows of a 2D array it stays scalar (one store
-#: stream per field, and LLVM's runtime alias checks exceed its limit).
-CHUNK = 32
-(S_GR, S_GZ, S_QI, S_QO, S_CI, S_SI, S_CO, S_SO, S_FC, S_MG, S_WM, S_DI, S_DO, S_X00, S_X01, S_X10, S_X11, S_FR,
- S_FZ, S_M, S_K00, S_K01, S_K10, S_K11, S_M0, S_M1, S_BR, S_BZ, S_VERDICT, S_EXACT, S_DBR, S_DBZ, S_LOADED, S_UR,
- S_UZ) = range(35)
-N_SUMMARY = 35
-
 
 @njit(cache=CACHE)
 def warm_rows(n_balls):
@@ -334,8 +319,8 @@ def free_constants(p):
     """A ball's column of the speed table as it is free of the inner race: no inner contact (K_i = 0) and
     so no friction there; the outer race alone carries the gyroscopic moment (lambda_o = lambda_i +
     lambda_o: 2, or 0 with race control "none") and sets the spin axis (outer control)."""
-    return (p[0], p[1], 0.0, p[3], p[4], p[5], p[6], 0.0, p[LAMBDA_INNER] + p[LAMBDA_OUTER], 0.0, p[10], p[11],
-            p[12], p[13], p[14])
+    return (p[INNER_RADIUS], p[OUTER_RADIUS], 0.0, p[K_OUTER], p[MASS_RADIUS], p[INERTIA], p[GAMMA], 0.0, p[LAMBDA_INNER] + p[LAMBDA_OUTER], 0.0, p[OUTER_ROTATES], p[INNER_ARM],
+            p[DIAMETER], p[OUTER_SHARE], p[COS_NOMINAL])
 
 
 #: start_position inlined, for the loop over a chunk of cold balls (a call would keep it scalar)
@@ -347,8 +332,8 @@ def _tolerance(st, reach):
     """The residual (N) at which a ball is settled: BALL_RTOL of its largest force, or the rounding floor
     of its position (the contact stiffness times a few ulps of the centre distances ``reach``, mm) for
     the lightest contacts, whose deflections are a few ulps of the centre distances."""
-    scale = st[25] + st[26] + abs(st[31])
-    stiffness = abs(st[2]) + abs(st[3]) + abs(st[4]) + abs(st[5])
+    scale = st[BS_QI] + st[BS_QO] + abs(st[BS_FC])
+    stiffness = abs(st[BS_GB_RR]) + abs(st[BS_GB_RZ]) + abs(st[BS_GB_ZR]) + abs(st[BS_GB_ZZ])
     return max(BALL_RTOL * scale, 8.0 * 2.220446049250313e-16 * reach * stiffness)
 
 
@@ -362,15 +347,15 @@ def _judge(st, reach, linearise):
     with ``linearise`` (LINEARISED, dB_r, dB_z, exact) when the Newton step dB is short against both
     deflections (LINEAR_REACH; ``exact`` within LINEAR_RTOL); else (STEP, s_r, s_z, False) with the Newton
     step s = G_B^-1 g (B - s is the next iterate). ``reach`` (mm) scales the ball's rounding floor."""
-    g_r, g_z, a, b, c, d = st[0], st[1], st[2], st[3], st[4], st[5]
+    g_r, g_z, a, b, c, d = st[BS_GR], st[BS_GZ], st[BS_GB_RR], st[BS_GB_RZ], st[BS_GB_ZR], st[BS_GB_ZZ]
     if max(abs(g_r), abs(g_z)) <= _tolerance(st, reach):
         return SETTLED, 0.0, 0.0, True
     det = a * d - b * c
     step_r = (d * g_r - b * g_z) / det
     step_z = (a * g_z - c * g_r) / det
-    if linearise and st[34] > 0.0 and st[35] > 0.0:
-        moved_o = abs(st[29] * step_r + st[30] * step_z) / st[35]
-        moved_i = abs(st[27] * step_r + st[28] * step_z) / st[34]
+    if linearise and st[BS_DI] > 0.0 and st[BS_DO] > 0.0:
+        moved_o = abs(st[BS_CO] * step_r + st[BS_SO] * step_z) / st[BS_DO]
+        moved_i = abs(st[BS_CI] * step_r + st[BS_SI] * step_z) / st[BS_DI]
         if moved_o <= LINEAR_REACH and moved_i <= LINEAR_REACH:
             swing = math.sqrt(step_r * step_r + step_z * step_z)  # the tangential part: against |B| ~ D
             exact = max(moved_o, moved_i) <= LINEAR_RTOL and swing <= LINEAR_RTOL * reach
@@ -383,15 +368,15 @@ def _step_length(st, step_r, step_z, reach, ri):
     """The fraction t of the Newton step s (B - t s is the next iterate) a ball takes from state ``st``:
     at most halving either deflection (Hertz contacts soften to nothing as they unload), but swinging
     the ball round its contacts freely (the soft tangential direction)."""
-    shrink_o = st[29] * step_r + st[30] * step_z  # delta_o falls by n_o . step
-    shrink_i = -(st[27] * step_r + st[28] * step_z)  # delta_i falls by -n_i . step
+    shrink_o = st[BS_CO] * step_r + st[BS_SO] * step_z  # delta_o falls by n_o . step
+    shrink_i = -(st[BS_CI] * step_r + st[BS_SI] * step_z)  # delta_i falls by -n_i . step
     t = 1.0
-    if shrink_o > 0.5 * st[35] + 1e-15 * reach:
-        t = min(t, (0.5 * st[35] + 1e-15 * reach) / shrink_o)
+    if shrink_o > 0.5 * st[BS_DO] + 1e-15 * reach:
+        t = min(t, (0.5 * st[BS_DO] + 1e-15 * reach) / shrink_o)
     # ... except when the inner contact has all but opened (1e-6 of its reach): then the ball may leave it
     # (its equilibrium on the outer race alone lies there), and Newton re-enters if it must
-    if shrink_i > 0.5 * st[34] + 1e-15 * reach and st[34] > 1e-6 * ri:
-        t = min(t, (0.5 * st[34] + 1e-15 * reach) / shrink_i)
+    if shrink_i > 0.5 * st[BS_DI] + 1e-15 * reach and st[BS_DI] > 1e-6 * ri:
+        t = min(t, (0.5 * st[BS_DI] + 1e-15 * reach) / shrink_i)
     return t
 
 
@@ -442,12 +427,12 @@ def settle_ball(ur, uz, p, w_i, w_o, smoothing_eps, warm_br=0.0, warm_bz=0.0, wa
         # inlined in it) once per literal, about 1.7 s each
         st, br, bz, it, settled, _, _, _ = _newton(ur, uz, brf, 0.0, free_constants(p), w_i, w_o, smoothing_eps,
                                                    np.int64(BALL_ITERATIONS), False)
-        if settled and st[34] <= 0.0:
+        if settled and st[BS_DI] <= 0.0:
             return st, br, bz, -1, True, 0.0, 0.0, True
     if warm:
         st, wbr, wbz, it, settled, db_r, db_z, exact = _newton(ur, uz, warm_br, warm_bz, p, w_i, w_o,
                                                                smoothing_eps, np.int64(WARM_ITERATIONS), linearise)
-        if settled and st[34] > 0.0 and st[35] > 0.0:
+        if settled and st[BS_DI] > 0.0 and st[BS_DO] > 0.0:
             return st, wbr, wbz, it, True, db_r, db_z, exact
     br, bz, _ = start_position(ur, uz, p, w_i, w_o, smoothing_eps, False)
     return _newton(ur, uz, br, bz, p, w_i, w_o, smoothing_eps, np.int64(BALL_ITERATIONS), linearise)
@@ -457,22 +442,22 @@ def settle_ball(ur, uz, p, w_i, w_o, smoothing_eps, warm_br=0.0, warm_bz=0.0, wa
 def sensitivity(st):
     """X = G_B^-1 G_u (2x2, row-major): how the settled centre B moves with the inner groove centre u,
     dB = -X du."""
-    a, b, c, d = st[2], st[3], st[4], st[5]
+    a, b, c, d = st[BS_GB_RR], st[BS_GB_RZ], st[BS_GB_ZR], st[BS_GB_ZZ]
     det = a * d - b * c
-    return ((d * st[6] - b * st[8]) / det, (d * st[7] - b * st[9]) / det,
-            (a * st[8] - c * st[6]) / det, (a * st[9] - c * st[7]) / det)
+    return ((d * st[BS_GU_RR] - b * st[BS_GU_ZR]) / det, (d * st[BS_GU_RZ] - b * st[BS_GU_ZZ]) / det,
+            (a * st[BS_GU_ZR] - c * st[BS_GU_RR]) / det, (a * st[BS_GU_ZZ] - c * st[BS_GU_RZ]) / det)
 
 
 @njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
 def condensed(st, x00, x01, x10, x11):
     """The ball's condensed stiffness: dF/du = F_u - F_B X (2x2, mirrored frame) and dm/du = m_u - m_B X
     (2), from a :func:`ball_state` tuple and its :func:`sensitivity` X = G_B^-1 G_u."""
-    k00 = st[12] - (st[16] * x00 + st[17] * x10)
-    k01 = st[13] - (st[16] * x01 + st[17] * x11)
-    k10 = st[14] - (st[18] * x00 + st[19] * x10)
-    k11 = st[15] - (st[18] * x01 + st[19] * x11)
-    m0 = st[21] - (st[23] * x00 + st[24] * x10)
-    m1 = st[22] - (st[23] * x01 + st[24] * x11)
+    k00 = st[BS_FU_RR] - (st[BS_FB_RR] * x00 + st[BS_FB_RZ] * x10)
+    k01 = st[BS_FU_RZ] - (st[BS_FB_RR] * x01 + st[BS_FB_RZ] * x11)
+    k10 = st[BS_FU_ZR] - (st[BS_FB_ZR] * x00 + st[BS_FB_ZZ] * x10)
+    k11 = st[BS_FU_ZZ] - (st[BS_FB_ZR] * x01 + st[BS_FB_ZZ] * x11)
+    m0 = st[BS_MU_R] - (st[BS_MB_R] * x00 + st[BS_MB_Z] * x10)
+    m1 = st[BS_MU_Z] - (st[BS_MB_R] * x01 + st[BS_MB_Z] * x11)
     return k00, k01, k10, k11, m0, m1
 
 
@@ -489,44 +474,44 @@ def _add_column(acc, c, s, z, R, k00, k01, k10, k11, m0, m1, a, b):
 def _summary(st, db_r, db_z):
     """What the ring loop needs of a ball state (mirrored frame): the residual, the loads, normals, F_c, M_g,
     omega_m and deflections of the state, its sensitivity X, the ring force (F_r, F_z) and moment m to
-    first order at B + dB, and the condensed stiffness (dF/du 2x2, dm/du 2); fields S_GR..S_M1."""
+    first order at B + dB, and the condensed stiffness (dF/du 2x2, dm/du 2); fields SM_GR..SM_M1."""
     x00, x01, x10, x11 = sensitivity(st)
     k00, k01, k10, k11, m0, m1 = condensed(st, x00, x01, x10, x11)
-    return (st[0], st[1], st[25], st[26], st[27], st[28], st[29], st[30], st[31], st[32], st[33], st[34], st[35],
+    return (st[BS_GR], st[BS_GZ], st[BS_QI], st[BS_QO], st[BS_CI], st[BS_SI], st[BS_CO], st[BS_SO], st[BS_FC], st[BS_MG], st[BS_WM], st[BS_DI], st[BS_DO],
             x00, x01, x10, x11,
-            st[10] + (st[16] * db_r + st[17] * db_z), st[11] + (st[18] * db_r + st[19] * db_z),
-            st[20] + (st[23] * db_r + st[24] * db_z), k00, k01, k10, k11, m0, m1)
+            st[BS_FR] + (st[BS_FB_RR] * db_r + st[BS_FB_RZ] * db_z), st[BS_FZ] + (st[BS_FB_ZR] * db_r + st[BS_FB_ZZ] * db_z),
+            st[BS_M] + (st[BS_MB_R] * db_r + st[BS_MB_Z] * db_z), k00, k01, k10, k11, m0, m1)
 
 
 @njit(inline="always")
 def _write_summary(out, i, sm):
     """Store a :func:`_summary` as ball i of a chunk (field k at k*CHUNK + i: one store stream)."""
-    out[0 * CHUNK + i] = sm[0]
-    out[1 * CHUNK + i] = sm[1]
-    out[2 * CHUNK + i] = sm[2]
-    out[3 * CHUNK + i] = sm[3]
-    out[4 * CHUNK + i] = sm[4]
-    out[5 * CHUNK + i] = sm[5]
-    out[6 * CHUNK + i] = sm[6]
-    out[7 * CHUNK + i] = sm[7]
-    out[8 * CHUNK + i] = sm[8]
-    out[9 * CHUNK + i] = sm[9]
-    out[10 * CHUNK + i] = sm[10]
-    out[11 * CHUNK + i] = sm[11]
-    out[12 * CHUNK + i] = sm[12]
-    out[13 * CHUNK + i] = sm[13]
-    out[14 * CHUNK + i] = sm[14]
-    out[15 * CHUNK + i] = sm[15]
-    out[16 * CHUNK + i] = sm[16]
-    out[17 * CHUNK + i] = sm[17]
-    out[18 * CHUNK + i] = sm[18]
-    out[19 * CHUNK + i] = sm[19]
-    out[20 * CHUNK + i] = sm[20]
-    out[21 * CHUNK + i] = sm[21]
-    out[22 * CHUNK + i] = sm[22]
-    out[23 * CHUNK + i] = sm[23]
-    out[24 * CHUNK + i] = sm[24]
-    out[25 * CHUNK + i] = sm[25]
+    out[SM_GR * CHUNK + i] = sm[SM_GR]
+    out[SM_GZ * CHUNK + i] = sm[SM_GZ]
+    out[SM_QI * CHUNK + i] = sm[SM_QI]
+    out[SM_QO * CHUNK + i] = sm[SM_QO]
+    out[SM_CI * CHUNK + i] = sm[SM_CI]
+    out[SM_SI * CHUNK + i] = sm[SM_SI]
+    out[SM_CO * CHUNK + i] = sm[SM_CO]
+    out[SM_SO * CHUNK + i] = sm[SM_SO]
+    out[SM_FC * CHUNK + i] = sm[SM_FC]
+    out[SM_MG * CHUNK + i] = sm[SM_MG]
+    out[SM_WM * CHUNK + i] = sm[SM_WM]
+    out[SM_DI * CHUNK + i] = sm[SM_DI]
+    out[SM_DO * CHUNK + i] = sm[SM_DO]
+    out[SM_X00 * CHUNK + i] = sm[SM_X00]
+    out[SM_X01 * CHUNK + i] = sm[SM_X01]
+    out[SM_X10 * CHUNK + i] = sm[SM_X10]
+    out[SM_X11 * CHUNK + i] = sm[SM_X11]
+    out[SM_FR * CHUNK + i] = sm[SM_FR]
+    out[SM_FZ * CHUNK + i] = sm[SM_FZ]
+    out[SM_M * CHUNK + i] = sm[SM_M]
+    out[SM_K00 * CHUNK + i] = sm[SM_K00]
+    out[SM_K01 * CHUNK + i] = sm[SM_K01]
+    out[SM_K10 * CHUNK + i] = sm[SM_K10]
+    out[SM_K11 * CHUNK + i] = sm[SM_K11]
+    out[SM_M0 * CHUNK + i] = sm[SM_M0]
+    out[SM_M1 * CHUNK + i] = sm[SM_M1]
 
 
 @njit(inline="always")
@@ -534,36 +519,36 @@ def _read_summary(out, i):
     """Ball i of a chunk: its :func:`_summary`, the centre B taken (br, bz; the next Newton iterate where
     the verdict of :func:`_judge` is STEP), the linearised step (db_r, db_z), whether that is exact, and
     the verdict."""
-    sm = (out[0 * CHUNK + i], out[1 * CHUNK + i], out[2 * CHUNK + i], out[3 * CHUNK + i],
-          out[4 * CHUNK + i], out[5 * CHUNK + i], out[6 * CHUNK + i], out[7 * CHUNK + i],
-          out[8 * CHUNK + i], out[9 * CHUNK + i], out[10 * CHUNK + i], out[11 * CHUNK + i],
-          out[12 * CHUNK + i], out[13 * CHUNK + i], out[14 * CHUNK + i], out[15 * CHUNK + i],
-          out[16 * CHUNK + i], out[17 * CHUNK + i], out[18 * CHUNK + i], out[19 * CHUNK + i],
-          out[20 * CHUNK + i], out[21 * CHUNK + i], out[22 * CHUNK + i], out[23 * CHUNK + i],
-          out[24 * CHUNK + i], out[25 * CHUNK + i])
-    return (sm, out[S_BR * CHUNK + i], out[S_BZ * CHUNK + i], out[S_DBR * CHUNK + i], out[S_DBZ * CHUNK + i],
-            out[S_EXACT * CHUNK + i] != 0.0, out[S_VERDICT * CHUNK + i])
+    sm = (out[SM_GR * CHUNK + i], out[SM_GZ * CHUNK + i], out[SM_QI * CHUNK + i], out[SM_QO * CHUNK + i],
+          out[SM_CI * CHUNK + i], out[SM_SI * CHUNK + i], out[SM_CO * CHUNK + i], out[SM_SO * CHUNK + i],
+          out[SM_FC * CHUNK + i], out[SM_MG * CHUNK + i], out[SM_WM * CHUNK + i], out[SM_DI * CHUNK + i],
+          out[SM_DO * CHUNK + i], out[SM_X00 * CHUNK + i], out[SM_X01 * CHUNK + i], out[SM_X10 * CHUNK + i],
+          out[SM_X11 * CHUNK + i], out[SM_FR * CHUNK + i], out[SM_FZ * CHUNK + i], out[SM_M * CHUNK + i],
+          out[SM_K00 * CHUNK + i], out[SM_K01 * CHUNK + i], out[SM_K10 * CHUNK + i], out[SM_K11 * CHUNK + i],
+          out[SM_M0 * CHUNK + i], out[SM_M1 * CHUNK + i])
+    return (sm, out[SM_BR * CHUNK + i], out[SM_BZ * CHUNK + i], out[SM_DBR * CHUNK + i], out[SM_DBZ * CHUNK + i],
+            out[SM_EXACT * CHUNK + i] != 0.0, out[SM_VERDICT * CHUNK + i])
 
 
 @njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
 def _inner_centre(q, table, j):
     """The inner groove centre u = (ur, uz) of ball j (mm from its outer groove centre, mirrored frame) at
     the ring displacement q."""
-    c = table[0, j]
-    s = table[1, j]
-    z = table[2, j]
-    R = table[3, j]
+    c = table[COS_PSI, j]
+    s = table[SIN_PSI, j]
+    z = table[AXIAL_OFFSET, j]
+    R = table[PITCH_RADIUS, j]
     dr = (q[0] + z * q[4]) * c + (q[1] - z * q[3]) * s
     dzb = q[2] + R * (q[3] * s - q[4] * c)
-    return dr + table[4, j], table[10, j] * (dzb + table[5, j])  # mirrored: the row's contact direction is +z
+    return dr + table[UR0, j], table[DIRECTION, j] * (dzb + table[UZ0, j])  # mirrored: the row's contact direction is +z
 
 
 @njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
 def _ball_constants(speed_table, j, omega):
     """Ball j's column of the high-speed table as a tuple, and its ring speeds (w_i, w_o) in rad/s."""
-    p = (speed_table[0, j], speed_table[1, j], speed_table[2, j], speed_table[3, j], speed_table[4, j],
-         speed_table[5, j], speed_table[6, j], speed_table[7, j], speed_table[8, j], speed_table[9, j],
-         speed_table[10, j], speed_table[11, j], speed_table[12, j], speed_table[13, j], speed_table[14, j])
+    p = (speed_table[INNER_RADIUS, j], speed_table[OUTER_RADIUS, j], speed_table[K_INNER, j], speed_table[K_OUTER, j], speed_table[MASS_RADIUS, j],
+         speed_table[INERTIA, j], speed_table[GAMMA, j], speed_table[LAMBDA_INNER, j], speed_table[LAMBDA_OUTER, j], speed_table[INNER_CONTROL, j],
+         speed_table[OUTER_ROTATES, j], speed_table[INNER_ARM, j], speed_table[DIAMETER, j], speed_table[OUTER_SHARE, j], speed_table[COS_NOMINAL, j])
     outer = speed_table[OUTER_ROTATES, j]
     return p, omega * (1.0 - outer), omega * outer
 
@@ -590,7 +575,7 @@ def _prediction(warm, j, ur, uz):
 @njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
 def _predicted_chunk(q, table, speed_table, omega, eps, warm, out, j0, m, linearise, cold):
     """Balls j0 .. j0+m-1 at their first-order predictions from ``warm`` (``cold``: at their cold guesses,
-    :func:`start_position`; S_LOADED 0 where the rings leave the ball room to be free): state, judgement
+    :func:`start_position`; SM_LOADED 0 where the rings leave the ball room to be free): state, judgement
     (:func:`_judge`; where it says STEP, the step's end as the centre) and :func:`_summary` into ``out``
     (flat, field k of ball j0+i at k*CHUNK + i).
     Branch-free passes over the balls, so that they vectorise; a ball without a warm start in a warm
@@ -600,18 +585,18 @@ def _predicted_chunk(q, table, speed_table, omega, eps, warm, out, j0, m, linear
             ur, uz = _inner_centre(q, table, j0 + i)
             p, w_i, w_o = _ball_constants(speed_table, j0 + i, omega)
             br, bz, _ = _start_inline(ur, uz, p, w_i, w_o, eps)
-            out[S_BR * CHUNK + i] = br
-            out[S_BZ * CHUNK + i] = bz
+            out[SM_BR * CHUNK + i] = br
+            out[SM_BZ * CHUNK + i] = bz
     for i in range(m):
         j = j0 + i
         ur, uz = _inner_centre(q, table, j)
         p, w_i, w_o = _ball_constants(speed_table, j, omega)
         br, bz = _prediction(warm, j, ur, uz)
         if cold:
-            br = out[S_BR * CHUNK + i]
-            bz = out[S_BZ * CHUNK + i]
+            br = out[SM_BR * CHUNK + i]
+            bz = out[SM_BZ * CHUNK + i]
         # room to be free (warm or cold alike: the ball's state must not depend on the history)
-        out[S_LOADED * CHUNK + i] = 0.0 if free_position(ur, uz, p, w_i, w_o, eps)[1] else 1.0
+        out[SM_LOADED * CHUNK + i] = 0.0 if free_position(ur, uz, p, w_i, w_o, eps)[1] else 1.0
         st = ball_state(ur, uz, br, bz, p, w_i, w_o, eps)
         reach = p[INNER_RADIUS] + p[OUTER_RADIUS] + abs(ur) + abs(uz)
         verdict, db_r, db_z, exact = _judge(st, reach, linearise)
@@ -621,14 +606,14 @@ def _predicted_chunk(q, table, speed_table, omega, eps, warm, out, j0, m, linear
             br -= db_r * t
             bz -= db_z * t
         _write_summary(out, i, sm)
-        out[S_BR * CHUNK + i] = br
-        out[S_BZ * CHUNK + i] = bz
-        out[S_VERDICT * CHUNK + i] = verdict
-        out[S_EXACT * CHUNK + i] = 1.0 if exact else 0.0
-        out[S_DBR * CHUNK + i] = db_r
-        out[S_DBZ * CHUNK + i] = db_z
-        out[S_UR * CHUNK + i] = ur
-        out[S_UZ * CHUNK + i] = uz
+        out[SM_BR * CHUNK + i] = br
+        out[SM_BZ * CHUNK + i] = bz
+        out[SM_VERDICT * CHUNK + i] = verdict
+        out[SM_EXACT * CHUNK + i] = 1.0 if exact else 0.0
+        out[SM_DBR * CHUNK + i] = db_r
+        out[SM_DBZ * CHUNK + i] = db_z
+        out[SM_UR * CHUNK + i] = ur
+        out[SM_UZ * CHUNK + i] = uz
 
 
 #: The ring sums' start: f and the five columns of Kb.
@@ -640,23 +625,23 @@ def _ring_add(sums, sm, table, j, eps):
     """``sums`` (f, then Kb's columns) plus ball j's share from its :func:`_summary`, in the bearing's
     frame (the axial components take the row's sign). An unloaded ball adds nothing (selects, not a
     branch: the loop over a chunk vectorises, and an unloaded ball's summary may hold inf or NaN)."""
-    c = table[0, j]
-    s = table[1, j]
-    z = table[2, j]
-    R = table[3, j]
-    sgn = table[10, j]
-    on = sm[S_QI] > 0.0 or eps != 0.0
-    Fr = sm[S_FR] if on else 0.0
-    Fz = sgn * sm[S_FZ] if on else 0.0
-    mo = R * Fz - z * Fr + (sgn * sm[S_M] if on else 0.0)
+    c = table[COS_PSI, j]
+    s = table[SIN_PSI, j]
+    z = table[AXIAL_OFFSET, j]
+    R = table[PITCH_RADIUS, j]
+    sgn = table[DIRECTION, j]
+    on = sm[SM_QI] > 0.0 or eps != 0.0
+    Fr = sm[SM_FR] if on else 0.0
+    Fz = sgn * sm[SM_FZ] if on else 0.0
+    mo = R * Fz - z * Fr + (sgn * sm[SM_M] if on else 0.0)
     fs, acc0, acc1, acc2, acc3, acc4 = sums
     fs = (fs[0] + Fr * c, fs[1] + Fr * s, fs[2] + Fz, fs[3] + mo * s, fs[4] - mo * c)
-    k00 = sm[S_K00] if on else 0.0
-    k01 = sgn * sm[S_K01] if on else 0.0
-    k10 = sgn * sm[S_K10] if on else 0.0
-    k11 = sm[S_K11] if on else 0.0
-    m0 = sgn * sm[S_M0] if on else 0.0
-    m1 = sm[S_M1] if on else 0.0
+    k00 = sm[SM_K00] if on else 0.0
+    k01 = sgn * sm[SM_K01] if on else 0.0
+    k10 = sgn * sm[SM_K10] if on else 0.0
+    k11 = sm[SM_K11] if on else 0.0
+    m0 = sgn * sm[SM_M0] if on else 0.0
+    m1 = sm[SM_M1] if on else 0.0
     # columns of J: a = d(ur)/dq, b = d(uz)/dq (bearing frame); the sums stay in registers
     return (fs, _add_column(acc0, c, s, z, R, k00, k01, k10, k11, m0, m1, c, 0.0),
             _add_column(acc1, c, s, z, R, k00, k01, k10, k11, m0, m1, s, 0.0),
@@ -692,12 +677,12 @@ def _ball_pass(q, table, speed_table, omega, eps, ball_load, contact_angle, stat
         _predicted_chunk(q, table, speed_table, omega, eps, warm, out, j0, m, linearise, cold)
         for i in range(m):
             j = j0 + i
-            ur, uz = out[S_UR * CHUNK + i], out[S_UZ * CHUNK + i]  # the pass's inner groove centre
+            ur, uz = out[SM_UR * CHUNK + i], out[SM_UZ * CHUNK + i]  # the pass's inner groove centre
             sm, br, bz, db_r, db_z, exact, verdict = _read_summary(out, i)
             iterations = 0
             settled = True
             start = False  # (br, bz) is a start for a settle: the prediction
-            room = out[S_LOADED * CHUNK + i] == 0.0
+            room = out[SM_LOADED * CHUNK + i] == 0.0
             if cold:
                 # settled or linearised at the cold guess: what settle_ball would return (a ball that needs a
                 # step is settled by it from the step's end, its next iterate); room to be free: settle_ball
@@ -709,7 +694,7 @@ def _ball_pass(q, table, speed_table, omega, eps, ball_load, contact_angle, stat
                 # both contacts closed at a settled or nearly settled centre, and no room to be free: the ball's
                 # one equilibrium (its potential is convex where it touches a race); a step to take, a contact
                 # open or room to be free: settle
-                resettle = verdict == STEP or not (sm[S_DI] > 0.0 and sm[S_DO] > 0.0) or room
+                resettle = verdict == STEP or not (sm[SM_DI] > 0.0 and sm[SM_DO] > 0.0) or room
             else:
                 resettle = True  # no warm start (free at the last evaluation): from the cold guess
             if resettle:
@@ -718,25 +703,25 @@ def _ball_pass(q, table, speed_table, omega, eps, ball_load, contact_angle, stat
                                                                                  start, linearise)
                 sm = _summary(st, db_r, db_z)
                 _write_summary(out, i, sm)  # for the ring sums
-            _, _, Qi, Qo, ci, si, co, so, Fc, Mg, wm, d_i, d_o = sm[:13]
+            _, _, Qi, Qo, ci, si, co, so, Fc, Mg, wm, d_i, d_o = sm[:SM_X00]
             if not exact:
                 flags |= 8
             warm[WARM_BR, j] = br + db_r
             warm[WARM_BZ, j] = bz + db_z
             warm[WARM_UR, j] = ur
             warm[WARM_UZ, j] = uz
-            warm[WARM_X00, j] = sm[S_X00]
-            warm[WARM_X01, j] = sm[S_X01]
-            warm[WARM_X10, j] = sm[S_X10]
-            warm[WARM_X11, j] = sm[S_X11]
+            warm[WARM_X00, j] = sm[SM_X00]
+            warm[WARM_X01, j] = sm[SM_X01]
+            warm[WARM_X10, j] = sm[SM_X10]
+            warm[WARM_X11, j] = sm[SM_X11]
             warm[WARM_VALID, j] = 1.0 if settled and iterations >= 0 else 0.0
             loaded = d_i > 0.0
             n_loaded += loaded
             if not settled:
                 flags |= 4
-            if loaded and si < 0.0 and table[5, j] != 0.0:  # a level row (a0 = 0) has no direction to reverse
+            if loaded and si < 0.0 and table[UZ0, j] != 0.0:  # a level row (a0 = 0) has no direction to reverse
                 flags |= 1
-            if d_i + d_o > table[12, j]:
+            if d_i + d_o > table[DEFLECTION_LIMIT, j]:
                 flags |= 2
             total += Qi
             if ball_load is not None:
@@ -755,7 +740,7 @@ def _ball_pass(q, table, speed_table, omega, eps, ball_load, contact_angle, stat
                 states[j, STATE_ORBITAL_SPEED] = wm
                 states[j, STATE_ITERATIONS] = iterations
                 # the equilibrium residual relative to the ball's largest force (a free ball's on the outer race)
-                states[j, STATE_RESIDUAL] = max(abs(sm[S_GR]), abs(sm[S_GZ])) / max(Qi + Qo + abs(Fc), 1e-300)
+                states[j, STATE_RESIDUAL] = max(abs(sm[SM_GR]), abs(sm[SM_GZ])) / max(Qi + Qo + abs(Fc), 1e-300)
         sums = _ring_sums(sums, table, out, j0, m, eps)
     return sums, total, n_loaded, flags
 

@@ -18,8 +18,10 @@ import math
 from numba import njit, types
 from numba.extending import overload
 
-from .bearing import (A0, AXIAL_OFFSET, BALL_OF, COS_PSI, DEFLECTION_LIMIT, DIRECTION, EXPONENT, GAP2, HALF_COUNT, KN,
-                      MIRROR_HALF, MIRROR_OF, PITCH_RADIUS, SHARE, SIN_PSI, UR0, UZ0, WEIGHT)
+from .schema import (A0, AXIAL_OFFSET, BALL_OF, COS_PSI, DEFLECTION_LIMIT, DIRECTION, EXPONENT, GAP2, HALF_COUNT, KN,
+                     MIRROR_HALF, MIRROR_OF, PITCH_RADIUS, SHARE, SIN_PSI, S_ANGLE, S_AXIAL,
+                     S_COS_PSI, S_COUNT, S_NORMAL_R, S_NORMAL_Z, S_OFFSET, S_POSITION, S_RADIUS, S_ROLLER, S_SCALE,
+                     S_SIN_PSI, S_STIFFNESS, UR0, UZ0, WEIGHT)
 from .config import CACHE, ERROR_MODEL, KERNEL_FASTMATH, REFCOUNT
 from .deflection import smoothed_deflection
 from .high_speed import spinning_balls, standing_still
@@ -220,8 +222,8 @@ def _slice_reach(slices, reach, zmax):
 
     def widen(slices, reach, zmax):
         for k in range(slices.shape[1]):
-            reach = max(reach, slices[11, k])
-            zmax = max(zmax, abs(slices[2, k]) + abs(slices[12, k]))
+            reach = max(reach, slices[S_SCALE, k])
+            zmax = max(zmax, abs(slices[S_AXIAL, k]) + abs(slices[S_POSITION, k]))
         return reach, zmax
     return widen
 
@@ -435,18 +437,18 @@ def slice_loop(q, slices, smoothing, f, K, element_load, element_angle):
     the contact angle (rad); a record longer than that also takes every slice's load, after the rollers.
     Returns (total slice load N, loaded slices).
     """
-    cos_psi = slices[0]
-    sin_psi = slices[1]
-    axial = slices[2]
-    radius = slices[3]
-    nr = slices[4]
-    nz = slices[5]
-    offset = slices[6]
-    stiffness = slices[7]
-    roller = slices[9]
-    angle = slices[10]
-    position = slices[12]
-    count = slices[13]
+    cos_psi = slices[S_COS_PSI]
+    sin_psi = slices[S_SIN_PSI]
+    axial = slices[S_AXIAL]
+    radius = slices[S_RADIUS]
+    nr = slices[S_NORMAL_R]
+    nz = slices[S_NORMAL_Z]
+    offset = slices[S_OFFSET]
+    stiffness = slices[S_STIFFNESS]
+    roller = slices[S_ROLLER]
+    angle = slices[S_ANGLE]
+    position = slices[S_POSITION]
+    count = slices[S_COUNT]
     dx = q[0]
     dy = q[1]
     dz = q[2]

@@ -33,7 +33,8 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from . import validate
-from .bearing import ROW
+from .schema import (LIFE_CE, LIFE_CI, LIFE_FIRST, LIFE_INNER, LIFE_SLICES, LIFE_X0, LIFE_Y0, LIFE_Z, N_LIFE_COLUMNS,
+                     ROW)
 
 #: ISO 281 Table 2, column 1 (single-row radial and single- or double-row angular contact ball
 #: bearings): f_c at gamma = Dw cos(a)/Dpw = 0.01, 0.02 ... 0.40 (interpolated linearly).
@@ -449,20 +450,20 @@ def life_table(r: BearingRatings, settings: LifeSettings) -> np.ndarray:
     powers (ball rows Q_ci^(-10/3), Q_ce^(-10/3); roller rows the laminae's q_ci^(-9/2), q_ce^(-9/2)), Z,
     inner-ring rotating (1/0), the bearing's ISO 76 X0, Y0, and for roller rows the laminae per roller
     and where the row's slices start in the kernel's slice record (0, 0 for ball rows)."""
-    t = np.zeros((len(r.C_row), 8))
+    t = np.zeros((len(r.C_row), N_LIFE_COLUMNS))
     if r.rollers:
         ns = r.slices
-        t[:, 0] = (r.Q_ci * ns ** (-7.0 / 9.0)) ** -4.5
-        t[:, 1] = (r.Q_ce * ns ** (-7.0 / 9.0)) ** -4.5
-        t[:, 6], t[:, 7] = ns, r.slice_first
+        t[:, LIFE_CI] = (r.Q_ci * ns ** (-7.0 / 9.0)) ** -4.5
+        t[:, LIFE_CE] = (r.Q_ce * ns ** (-7.0 / 9.0)) ** -4.5
+        t[:, LIFE_SLICES], t[:, LIFE_FIRST] = ns, r.slice_first
         X0, Y0 = roller_static_factors(r.contact_angle, r.double_row)
     else:
-        t[:, 0] = r.Q_ci ** (-10.0 / 3.0)
-        t[:, 1] = r.Q_ce ** (-10.0 / 3.0)
+        t[:, LIFE_CI] = r.Q_ci ** (-10.0 / 3.0)
+        t[:, LIFE_CE] = r.Q_ce ** (-10.0 / 3.0)
         X0, Y0 = static_factors(r.contact_angle, r.double_row)
-    t[:, 2] = r.n_balls
-    t[:, 3] = 1.0 if settings.rotating == "inner" else 0.0
-    t[:, 4], t[:, 5] = X0, Y0
+    t[:, LIFE_Z] = r.n_balls
+    t[:, LIFE_INNER] = 1.0 if settings.rotating == "inner" else 0.0
+    t[:, LIFE_X0], t[:, LIFE_Y0] = X0, Y0
     return t
 
 

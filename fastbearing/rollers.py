@@ -30,6 +30,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import validate
+from .schema import (N_SLICE_COLUMNS, S_ANGLE, S_AXIAL, S_COS_PSI, S_COUNT, S_NORMAL_R, S_NORMAL_Z,  # noqa: F401
+                     S_OFFSET, S_POSITION, S_RADIUS, S_ROLLER, S_ROW, S_SCALE, S_SIN_PSI, S_STIFFNESS)
 
 ELEMENTS = ("ball", "cylindrical_roller", "tapered_roller")
 ROLLER_ELEMENTS = ELEMENTS[1:]
@@ -41,11 +43,6 @@ MAX_ROLLERS = 10_000
 #: E' = E/(1 - nu^2) of steel (E = 207 000 N/mm^2, nu = 0.3), N/mm^2: the default of the logarithmic crown.
 STEEL_REDUCED_MODULUS = 207000.0 / (1.0 - 0.3 ** 2)
 
-# Rows of the per-slice table the kernel reads (column k is slice k; a roller's slices are contiguous and
-# share its azimuth, centre (S_AXIAL, S_RADIUS), normal and S_COUNT; S_POSITION is x_k along the roller).
-(S_COS_PSI, S_SIN_PSI, S_AXIAL, S_RADIUS, S_NORMAL_R, S_NORMAL_Z, S_OFFSET, S_STIFFNESS, S_ROW, S_ROLLER,
- S_ANGLE, S_SCALE, S_POSITION, S_COUNT) = range(14)
-N_SLICE_COLUMNS = 14
 #: A roller row's deflection scale as a fraction of its effective length (the solver's step and smoothing
 #: scale, as A0 is a ball row's): 0.02 l, e.g. 0.2 mm for a 10 mm roller.
 DEFLECTION_SCALE = 0.02

@@ -37,7 +37,7 @@ from numba import njit
 from .config import (CACHE, DIVERGED_REACH, ERROR_MODEL, FASTMATH, NEWTON, RECORD_AHEAD, REFCOUNT,
                      SEARCH_CURVATURE, SEARCH_TRIALS, SMOOTHING_FIRST, SMOOTHING_LAST, SMOOTHING_RATIO, SMOOTHING_RTOL, STAGNATION_ITERATIONS,
                      STILL_START_RTOL)
-from .high_speed import WARM_LINEARISE, WARM_VALID
+from .schema import A0, AXIAL_OFFSET, EXPONENT, WARM_LINEARISE, WARM_VALID
 from .kernel import SETTLE_PASSES, ball_loop, settled_loop, slice_reach
 from .linalg import ldl_solve, lu_solve, stiffness_solve
 from .status import (BALL_EQUILIBRIUM, BALL_LINEARISED, BALL_UNSETTLED, CONVERGED, ITERATION_LIMIT, NONFINITE_INPUT,
@@ -119,7 +119,7 @@ def _cold_start(f_target, q, f, K, balls, D, max_step):
     norm = math.sqrt(norm2)
     size = 0.02 * max_step
     # the first element's exponent sets the rescale (exact for a uniform n): a ball's, else a slice's 10/9
-    n_exp = balls[0][8, 0] if balls[0].shape[1] > 0 else 10.0 / 9.0
+    n_exp = balls[0][EXPONENT, 0] if balls[0].shape[1] > 0 else 10.0 / 9.0
     evals = 0
     # the size is a guess: at speed take it from the balls standing still (omega 0: the quasi-static loop,
     # a tenth of the cost, and nothing for the high-speed balls' warm starts to forget)
@@ -604,8 +604,8 @@ def solve_case(f_target, q, f, K, balls, settings, warm, work, ball_load, contac
     reach = 0.0
     zmax = 0.0
     for j in range(table.shape[1]):
-        reach = max(reach, table[6, j])
-        zmax = max(zmax, abs(table[2, j]))
+        reach = max(reach, table[A0, j])
+        zmax = max(zmax, abs(table[AXIAL_OFFSET, j]))
     reach, zmax = slice_reach(balls[3], reach, zmax)
     arm = 1.0 + zmax / settings.length_scale
     scale = 0.0

@@ -12,10 +12,11 @@ from numba import njit, prange, types
 from numba.extending import intrinsic, overload
 
 from .config import CACHE, ERROR_MODEL, REFCOUNT
-from .high_speed import WARM_VALID, warm_rows
+from .high_speed import warm_rows
 from .kernel import ball_loop, slice_count
 from .linalg import stiffness_solve
 from .roots import cube_root
+from .schema import LIFE_CE, LIFE_CI, LIFE_FIRST, LIFE_INNER, LIFE_SLICES, LIFE_X0, LIFE_Y0, LIFE_Z, WARM_VALID
 from .solver import WORK_ROWS, solve_case, with_warnings
 from .status import BALL_UNSETTLED, CONVERGED, NONFINITE_RESULT, OUTCOME_MASK, UNLOADED
 
@@ -162,9 +163,6 @@ def row_summary(ball_load, contact_angle, ball_row, max_load, n_loaded, min_angl
             min_angle[r] = np.nan
             max_angle[r] = np.nan
 
-
-#: Rows of the ``life`` parameter table (rows, 8) a map's sweep reads (life.life_table builds it).
-LIFE_CI, LIFE_CE, LIFE_Z, LIFE_INNER, LIFE_X0, LIFE_Y0, LIFE_SLICES, LIFE_FIRST = range(8)
 
 
 @njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)

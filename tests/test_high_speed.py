@@ -15,6 +15,7 @@ from scipy.optimize import fsolve
 
 import fastbearing as fb
 from fastbearing import high_speed as hs
+from fastbearing import schema
 from fastbearing.contacts import ball_contacts
 
 DATA = Path(__file__).parent.parent / "data" / "bearings"
@@ -96,7 +97,7 @@ def test_a_scratch_without_room_for_the_summaries_is_reported_not_used():
     n = SPINDLE.n_balls
     table, speed_table = SPINDLE.ball_table(), SPINDLE.speed_table
     q = np.array([0.002, 0.0, 0.02, 0.0, 0.0])
-    small = np.zeros((hs.N_WARM + 1, n))
+    small = np.zeros((schema.N_WARM + 1, n))
     f, K = np.empty(5), np.empty((5, 5))
     total, loaded, flags = hs.spinning_balls(q, table, speed_table, 1000.0, 0.0, f, K, None, None, None, small)
     assert flags & 4 and loaded == 0 and np.isnan(total) and np.isnan(f).all() and np.isnan(K).all()
@@ -114,20 +115,20 @@ def test_a_warm_started_ball_settles_where_a_cold_one_does():
     n = SPINDLE.n_balls
     omega = 18000.0 * math.pi / 30.0
     warm = hs.new_warm(n)
-    states = np.empty((n, hs.N_STATE))
+    states = np.empty((n, schema.N_STATE))
     q_last = _q(rng)
     hs.spinning_balls(q_last, table, speed_table, omega, 0.0, np.empty(5), None, None, None, None, warm)
     for step in (1e-9, 1e-6, 1e-4, 3e-3):
         q = q_last + step * rng.standard_normal(5) * np.array([1, 1, 1, 0.02, 0.02])
         f_cold, K_cold = np.empty(5), np.empty((5, 5))
         hs.spinning_balls(q, table, speed_table, omega, 0.0, f_cold, K_cold, None, None, states, hs.new_warm(n))
-        cold_iterations = states[:, hs.STATE_ITERATIONS].sum()
+        cold_iterations = states[:, schema.STATE_ITERATIONS].sum()
         f, K = np.empty(5), np.empty((5, 5))
         hs.spinning_balls(q, table, speed_table, omega, 0.0, f, K, None, None, states, warm)
         assert np.abs(f - f_cold).max() <= 1e-11 * np.abs(f_cold).max(), step
         assert np.abs(K - K_cold).max() <= 1e-9 * np.abs(K_cold).max(), step
-        assert states[:, hs.STATE_RESIDUAL].max() <= 1e-10
-        assert states[:, hs.STATE_ITERATIONS].sum() < cold_iterations, step
+        assert states[:, schema.STATE_RESIDUAL].max() <= 1e-10
+        assert states[:, schema.STATE_ITERATIONS].sum() < cold_iterations, step
         q_last = q
 
 
@@ -151,7 +152,7 @@ def test_inside_a_solve_a_ball_is_linearised_to_second_order_and_flagged_until_s
                           hs.new_warm(SPINDLE.n_balls))
         scale = np.abs(f_exact).max()
         lin = warm.copy()
-        lin[hs.WARM_LINEARISE, 0] = 1.0
+        lin[schema.WARM_LINEARISE, 0] = 1.0
         f, K = np.empty(5), np.empty((5, 5))
         flags = hs.spinning_balls(q, table, speed_table, omega, 0.0, f, K, None, None, None, lin)[2]
         errors.append(np.abs(f - f_exact).max() / scale)
@@ -171,7 +172,7 @@ def test_inside_a_solve_a_ball_is_linearised_to_second_order_and_flagged_until_s
                                      warm.copy())[2] & 8
         assert np.abs(f2 - f_exact).max() <= 1e-12 * scale
         warm = lin
-        warm[hs.WARM_LINEARISE, 0] = 0.0
+        warm[schema.WARM_LINEARISE, 0] = 0.0
         q_last = q
     assert errors[1] < 1e-3 * errors[0] and errors[2] <= 1e-12  # a better start: far smaller error
 
@@ -204,9 +205,9 @@ def _harris_ball(A1, A2, p, omega):
     """One ball by Harris's equations (Advanced Concepts, ch. 3) in his variables X1 (axial), X2 (radial),
     delta_i, delta_o, solved with scipy, outer-raceway control, outer ring fixed: written from the
     textbook's form, with atan2 angles and explicit beta, sharing no code with the kernel."""
-    ri, ro, Ki, Ko, mass_radius, inertia, gamma = (p[hs.INNER_RADIUS], p[hs.OUTER_RADIUS], p[hs.K_INNER],
-                                                   p[hs.K_OUTER], p[hs.MASS_RADIUS], p[hs.INERTIA], p[hs.GAMMA])
-    D = p[hs.DIAMETER]
+    ri, ro, Ki, Ko, mass_radius, inertia, gamma = (p[schema.INNER_RADIUS], p[schema.OUTER_RADIUS], p[schema.K_INNER],
+                                                   p[schema.K_OUTER], p[schema.MASS_RADIUS], p[schema.INERTIA], p[schema.GAMMA])
+    D = p[schema.DIAMETER]
 
     def parts(x):
         X1, X2, di, do = x
@@ -421,11 +422,11 @@ def test_orbital_speed_reduces_to_the_cage_speed_and_centrifugal_force_to_half_m
     a = math.radians(20.0)
     omega = 1000.0
     wm, *_ , S, _, _, _, _ = hs.kinematics(math.cos(a), math.sin(a), math.cos(a), math.sin(a), omega, 0.0,
-                                           p[hs.GAMMA], False)
+                                           p[schema.GAMMA], False)
     D, dm = GEOMETRY.ball_diameter, GEOMETRY.pitch_diameter
     assert wm == pytest.approx(omega / 2 * (1 - D * math.cos(a) / dm), rel=1e-14)
     mass = 7850 * math.pi * (D * 1e-3) ** 3 / 6
-    assert p[hs.MASS_RADIUS] * wm ** 2 == pytest.approx(0.5 * mass * dm * 1e-3 * wm ** 2, rel=1e-14)
+    assert p[schema.MASS_RADIUS] * wm ** 2 == pytest.approx(0.5 * mass * dm * 1e-3 * wm ** 2, rel=1e-14)
 
 
 def _angles(b, f, speed):

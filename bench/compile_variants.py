@@ -1,0 +1,60 @@
+"""Compile time and cached variants of a newcomer's first four commands, from an empty numba cache (issue 35).
+
+Not a timing benchmark: each step runs in one fresh process (so that numba's cache is the only thing
+carried between them) with NUMBA_CACHE_DIR pointed at an empty folder, and the script reports each
+step's wall time (almost all compilation) and, at the end, the compiled variants numba cached (.nbc
+files) and their size. The steps, in order:
+
+1. the first quasi-static solve (the paper's DB bearing, one load);
+2. the first solve at speed (the shipped 7014C-DB spindle pair, 12 000 rpm);
+3. the first load map of the shipped 1M example (its config, on a 3 x 3 x 3 grid: the same kernels);
+4. the first roller solve (the shipped 30206 TDO pair).
+
+    python bench/compile_variants.py
+"""
+
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+STEPS = {
+    "first quasi-static solve": (
+        "import fastbearing as fb; "
+        "assert fb.solve(fb.Bearing.preset('gunduz2013', 'DB'), [1000.0, 0, 3000.0, 0, -74000.0]).converged"),
+    "first solve at speed": (
+        f"import fastbearing as fb; b = fb.load_bearing({str(ROOT / 'data/bearings/7014C-DB.toml')!r}); "
+        "assert fb.solve(b, [500.0, 0, 1000.0, 0, 0], speed=12000.0).converged"),
+    "first load map (the 1M example's kernels)": (
+        "import tomllib, tempfile, pathlib, fastbearing as fb; "
+        f"doc = tomllib.loads(pathlib.Path({str(ROOT / 'data/examples/gunduz2013-db-1M.toml')!r}).read_text()); "
+        "doc['loadmap'].update({k: {'start': -1.0, 'stop': 1.0, 'num': 3} for k in ('Fx', 'My')}); "
+        "doc['loadmap']['Fz'] = {'start': 100.0, 'stop': 1000.0, 'num': 3}; "
+        "d = tempfile.mkdtemp(); fb.loadmap(doc, pathlib.Path(d) / 'm.h5', progress=False)"),
+    "first roller solve": (
+        f"import fastbearing as fb; b = fb.load_bearing({str(ROOT / 'data/bearings/30206-TDO.toml')!r}); "
+        "assert fb.solve(b, [3000.0, 0, 1000.0, 0, 0]).converged"),
+}
+
+
+def main() -> None:
+    cache = Path(tempfile.mkdtemp(prefix="numba-cache-"))
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(cache)}
+    total = 0.0
+    for name, code in STEPS.items():
+        t = time.perf_counter()
+        subprocess.run([sys.executable, "-c", code], env=env, check=True, timeout=900)
+        dt = time.perf_counter() - t
+        total += dt
+        variants = list(cache.rglob("*.nbc"))
+        print(f"{name:45s} {dt:6.1f} s   cached variants so far: {len(variants)}")
+    size = sum(p.stat().st_size for p in cache.rglob("*.nb[ci]"))
+    print(f"{'all four':45s} {total:6.1f} s   {len(list(cache.rglob('*.nbc')))} variants, {size / 1e6:.1f} MB")
+
+
+if __name__ == "__main__":
+    main()
