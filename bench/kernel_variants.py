@@ -39,7 +39,7 @@ def main(reps=200_000):
     balls = bearing.ball_set()
     planar = fb.solve(bearing, [500.0, 0.0, 3000.0, 0.0, 2e4]).q.copy()
     off_plane = fb.solve(bearing, [500.0, 300.0, 3000.0, 5e3, 2e4]).q.copy()
-    n = balls[0].shape[1]
+    n = balls.balls.shape[1]
     f, K, ball_load, contact_angle = np.zeros(5), np.zeros((5, 5)), np.zeros(n), np.zeros(n)
     for where, q in (("planar q (the mirror half)", planar), ("off-plane q (every ball)", off_plane)):
         print(where)

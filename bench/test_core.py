@@ -31,7 +31,7 @@ def test_kernel_numba(benchmark, where):
         per_eval = benchmark.stats.stats.median / EVALS_PER_ROUND
         benchmark.extra_info.update(ns_per_ball=per_eval / 28 * 1e9, ns_per_evaluation=per_eval * 1e9)
     f, K = fb.stiffness(BEARING, q0)
-    f_np, K_np = load_and_stiffness(q0, balls[0])
+    f_np, K_np = load_and_stiffness(q0, balls.balls)
     np.testing.assert_allclose(K, K_np, rtol=1e-9, atol=1e-9 * np.abs(K).max())
 
 

@@ -21,7 +21,8 @@ from . import validate
 # the ball table's layout, re-exported where the table is built
 from .schema import (A0, AXIAL_OFFSET, BALL_OF, COS_NOMINAL, COS_PSI, DEFLECTION_LIMIT, DIRECTION, EXPONENT,  # noqa: F401
                      GAMMA, GAP2, HALF_COUNT, KN, MASS_RADIUS, MIRROR_HALF, MIRROR_OF, N_BALL_COLUMNS, N_BALL_FIELDS,
-                     N_SPEED_COLUMNS, OUTER_ROTATES, PITCH_RADIUS, ROW, SHARE, SIN_PSI, UR0, UZ0, WEIGHT)
+                     N_SPEED_COLUMNS, OUTER_ROTATES, PITCH_RADIUS, ROW, SHARE, SIN_PSI, UR0, UZ0, WEIGHT,
+                     ElementSet)
 from .rollers import (N_SLICE_COLUMNS, REQUIRED_ROLLER_KEYS, ROLLER_ELEMENTS, ROLLER_KEYS, RollerRow,
                       slice_table)
 
@@ -490,9 +491,10 @@ class Bearing:
             return self._ball_table_at_rest
         return self._build_ball_table(cage_angle)
 
-    def ball_set(self, cage_angle: float = 0.0, speed: float | None = None) -> tuple:
-        """What the kernel reads: (ball table, per-ball exponents or None when every n is 1.5, None:
-        the exact contact law, slice table or None without roller rows, speed table, omega, warm starts).
+    def ball_set(self, cage_angle: float = 0.0, speed: float | None = None) -> ElementSet:
+        """What the kernel reads (schema.ElementSet): the ball table, per-ball exponents or None when every n
+        is 1.5, None: the exact contact law, the slice table or None without roller rows, speed table, omega,
+        warm starts.
         ``speed`` (rpm) None: no speed table, the quasi-static model; a number (0 included): the
         high-speed constants, omega in rad/s and a fresh scratch for the balls' warm starts
         (fastbearing.high_speed; at 0 rpm the kernel takes the quasi-static loop). A ball set at speed
@@ -500,11 +502,11 @@ class Bearing:
         # no roller rows: None, so that the kernels compile no roller code for a ball bearing
         slices = self.slice_table(cage_angle) if self.roller_rows else None
         if speed is None:
-            return (self.ball_table(cage_angle), self.ball_exponents, None, slices, None, 0.0, None)
+            return ElementSet(self.ball_table(cage_angle), self.ball_exponents, None, slices, None, 0.0, None)
         from .high_speed import new_warm
 
-        return (self.ball_table(cage_angle), self.ball_exponents, None, slices, self.speed_table,
-                rpm_to_rad_s(speed), new_warm(self.n_balls))
+        return ElementSet(self.ball_table(cage_angle), self.ball_exponents, None, slices, self.speed_table,
+                          rpm_to_rad_s(speed), new_warm(self.n_balls))
 
     @cached_property
     def speed_table(self) -> np.ndarray:

@@ -149,7 +149,7 @@ def ball_loop(q, balls, f, K, ball_load, contact_angle):
     ----------
     q : (5,) float64
         (dx, dy, dz, bx, by) in mm and rad at the bearing centre.
-    balls : tuple (table, exponent, smoothing, slices, speed_table, omega, warm)
+    balls : schema.ElementSet (balls, exponents, smoothing, slices, speed_table, omega, warm)
         ``table`` (bearing.N_BALL_COLUMNS, n_balls) float64, column-major per-ball data from
         :meth:`fastbearing.Bearing.ball_set`; ``exponent`` None (all balls
         n = 1.5) or (n_balls,) float64 per-ball exponents (which picks the

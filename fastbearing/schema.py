@@ -9,6 +9,16 @@ may depend on it.
 Units: the rows' own (mm, N, rad, N/mm^n, kg*m, N*mm*s^2), said beside each group.
 """
 
+from collections import namedtuple
+
+#: What the kernels read of a bearing (bearing.Bearing.ball_set), by name: ``balls`` the ball table
+#: (N_BALL_COLUMNS, n_balls); ``exponents`` None (every ball Hertzian, n = 1.5) or the per-ball n;
+#: ``smoothing`` None (the exact contact law) or the solver's smoothing eps (mm); ``slices`` None (no roller
+#: rows) or the slice table (N_SLICE_COLUMNS, n_slices); ``speed_table`` None (the quasi-static model) or the
+#: balls' high-speed constants (N_SPEED_COLUMNS, n_balls) with ``omega`` the shaft speed (rad/s) and
+#: ``warm`` the balls' warm-start scratch (high_speed.new_warm). A None part compiles no code for it.
+ElementSet = namedtuple("ElementSet", "balls exponents smoothing slices speed_table omega warm")
+
 # -- ball table (bearing.Bearing.ball_table): column j is ball j ---------------------------------------------
 #: cos/sin of the azimuth psi; the row's axial offset z_r and the radius R of the inner groove-curvature
 #: centres (mm); the unloaded net radial and axial groove-centre separations (mm; UZ0 carries the row's

@@ -37,7 +37,7 @@ from numba import njit
 from .config import (CACHE, DIVERGED_REACH, ERROR_MODEL, FASTMATH, NEWTON, RECORD_AHEAD, REFCOUNT,
                      SEARCH_CURVATURE, SEARCH_TRIALS, SMOOTHING_FIRST, SMOOTHING_LAST, SMOOTHING_RATIO, SMOOTHING_RTOL, STAGNATION_ITERATIONS,
                      STILL_START_RTOL)
-from .schema import A0, AXIAL_OFFSET, EXPONENT, WARM_LINEARISE, WARM_VALID
+from .schema import A0, AXIAL_OFFSET, EXPONENT, WARM_LINEARISE, WARM_VALID, ElementSet
 from .kernel import SETTLE_PASSES, ball_loop, settled_loop, slice_reach
 from .linalg import ldl_solve, lu_solve, stiffness_solve
 from .status import (BALL_EQUILIBRIUM, BALL_LINEARISED, BALL_UNSETTLED, CONVERGED, ITERATION_LIMIT, NONFINITE_INPUT,
@@ -119,11 +119,12 @@ def _cold_start(f_target, q, f, K, balls, D, max_step):
     norm = math.sqrt(norm2)
     size = 0.02 * max_step
     # the first element's exponent sets the rescale (exact for a uniform n): a ball's, else a slice's 10/9
-    n_exp = balls[0][EXPONENT, 0] if balls[0].shape[1] > 0 else 10.0 / 9.0
+    n_exp = balls.balls[EXPONENT, 0] if balls.balls.shape[1] > 0 else 10.0 / 9.0
     evals = 0
     # the size is a guess: at speed take it from the balls standing still (omega 0: the quasi-static loop,
     # a tenth of the cost, and nothing for the high-speed balls' warm starts to forget)
-    still = (balls[0], balls[1], balls[2], balls[3], balls[4], 0.0, balls[6])
+    still = ElementSet(balls.balls, balls.exponents, balls.smoothing, balls.slices, balls.speed_table, 0.0,
+                       balls.warm)
     for attempt in range(40):
         for i in range(5):
             q[i] = size * f_target[i] * D[i] * D[i] / norm
@@ -203,7 +204,7 @@ def _descend(f_target, q, f, K, total, n_loaded, warn, balls, settings, tol, arm
             for j in range(5):
                 B[i, j] = K[i, j] * D[i] * D[j]
     passes = 0
-    record_trials = newton and balls[5] != 0.0
+    record_trials = newton and balls.omega != 0.0
     # the residual (squared) from which a quasi-static Newton trial is expected to converge (RECORD_AHEAD)
     record_from = RECORD_AHEAD * tol * tol / settings.rtol if newton and ball_load is not None else -1.0
     recorded = False
@@ -487,7 +488,7 @@ def _smoothing_continuation(f_target, q, f, K, balls, settings, tol, arm, reach,
     evals = 0
     while eps > SMOOTHING_LAST * reach:
         level_tol = max(tol, SMOOTHING_RTOL * tol / settings.rtol)
-        smoothed = (table, exponent, eps, slices, speed_table, omega, warm)
+        smoothed = ElementSet(table, exponent, eps, slices, speed_table, omega, warm)
         st, it, rmax, ev, total, warn = _minimise_energy(f_target, q, f, K, smoothed, settings, level_tol, arm,
                                                           reach, D, work)
         iterations += it
@@ -504,7 +505,8 @@ def _still_start(f_target, q, f, K, balls, settings, tol, arm, reach, D, work, b
     """q solving the load to ``tol`` with the balls standing still (omega 0: the quasi-static loop).
     Returns (evaluations, iterations, whether q is a start worth taking). The record arrays are only
     passed on (nothing is recorded standing still), so that _descend compiles once per solve_case."""
-    still = (balls[0], balls[1], balls[2], balls[3], balls[4], 0.0, balls[6])
+    still = ElementSet(balls.balls, balls.exponents, balls.smoothing, balls.slices, balls.speed_table, 0.0,
+                       balls.warm)
     ev, total, n_loaded, warn = _cold_start(f_target, q, f, K, still, D, settings.max_step)
     status, it, rmax, ev2, total, warn, _ = _descend(f_target, q, f, K, total, n_loaded, warn, still, settings, tol,
                                                      arm, reach, D, work, ball_load, contact_angle)
@@ -600,13 +602,13 @@ def solve_case(f_target, q, f, K, balls, settings, warm, work, ball_load, contac
                 K[i, j] = math.nan
         return SolveOutcome(NONFINITE_INPUT, 0, math.nan, 0)
     # geometry of the rounding floor: moment arms and the largest groove-centre distance
-    table = balls[0]
+    table = balls.balls
     reach = 0.0
     zmax = 0.0
     for j in range(table.shape[1]):
         reach = max(reach, table[A0, j])
         zmax = max(zmax, abs(table[AXIAL_OFFSET, j]))
-    reach, zmax = slice_reach(balls[3], reach, zmax)
+    reach, zmax = slice_reach(balls.slices, reach, zmax)
     arm = 1.0 + zmax / settings.length_scale
     scale = 0.0
     for i in range(5):
@@ -617,9 +619,9 @@ def solve_case(f_target, q, f, K, balls, settings, warm, work, ball_load, contac
     evals = 0
     status = STALLED
     recorded = False
-    spin = balls[6]
+    spin = balls.warm
     _take_linearised(spin, True)  # cleared again on every return below
-    if not warm and balls[5] != 0.0 and scale > 0.0:
+    if not warm and balls.omega != 0.0 and scale > 0.0:
         # spinning and no start given: start from the balls standing still, roughly solved (a continuation
         # in speed from 0); the spinning solve's own cold start stays the second attempt
         ev, it, warm = _still_start(f_target, q, f, K, balls, settings, max(tol, STILL_START_RTOL * scale), arm,
@@ -649,7 +651,7 @@ def solve_case(f_target, q, f, K, balls, settings, warm, work, ball_load, contac
         evals += ev
         if status == CONVERGED:
             break
-    if status != CONVERGED and balls[5] != 0.0 and scale > 0.0:
+    if status != CONVERGED and balls.omega != 0.0 and scale > 0.0:
         # spinning: from the balls standing still, solved to the tolerance (the rough start above can leave a
         # light load far off along a soft direction): at low speeds the answer is next to it
         _forget_balls(spin)  # the failed attempts' ball centres are no start

@@ -16,7 +16,8 @@ from .high_speed import warm_rows
 from .kernel import ball_loop, slice_count
 from .linalg import stiffness_solve
 from .roots import cube_root
-from .schema import LIFE_CE, LIFE_CI, LIFE_FIRST, LIFE_INNER, LIFE_SLICES, LIFE_X0, LIFE_Y0, LIFE_Z, WARM_VALID
+from .schema import (LIFE_CE, LIFE_CI, LIFE_FIRST, LIFE_INNER, LIFE_SLICES, LIFE_X0, LIFE_Y0, LIFE_Z, WARM_VALID,
+                     ElementSet)
 from .solver import WORK_ROWS, solve_case, with_warnings
 from .status import BALL_UNSETTLED, CONVERGED, NONFINITE_RESULT, OUTCOME_MASK, UNLOADED
 
@@ -79,13 +80,14 @@ def at_speed(balls, speeds, i, warm, fresh):
 # inlined: it returns arrays, which a caller without reference counting (map_runs) must not get from a counted call
 @overload(at_speed, inline="always")
 def _at_speed(balls, speeds, i, warm, fresh):
-    if isinstance(balls.types[4], types.NoneType):
+    if isinstance(balls.types[balls.fields.index("speed_table")], types.NoneType):
         return lambda balls, speeds, i, warm, fresh: balls
 
     def spinning(balls, speeds, i, warm, fresh):
         if fresh:
             forget_warm(warm)
-        return (balls[0], balls[1], balls[2], balls[3], balls[4], speeds[i], warm)
+        return ElementSet(balls.balls, balls.exponents, balls.smoothing, balls.slices, balls.speed_table, speeds[i],
+                          warm)
     return spinning
 
 
@@ -97,7 +99,7 @@ def solve_sweep(f_targets, q, f, K, status, iterations, residual, evaluations, b
     n_blocks = (n + block - 1) // block
     for b in prange(n_blocks):
         work = np.empty((WORK_ROWS, 5))
-        spin = warm_scratch(balls[4])
+        spin = warm_scratch(balls.speed_table)
         for i in range(b * block, min(n, (b + 1) * block)):
             out = solve_case(f_targets[i], q[i], f[i], K[i], at_speed(balls, speeds, i, spin, True), settings, warm,
                              work, None, None)
@@ -115,7 +117,7 @@ def stiffness_sweep(q, f, K, balls, speeds, block, unsettled):
     n = q.shape[0]
     n_blocks = (n + block - 1) // block
     for b in prange(n_blocks):
-        spin = warm_scratch(balls[4])
+        spin = warm_scratch(balls.speed_table)
         for i in range(b * block, min(n, (b + 1) * block)):
             warnings = ball_loop(q[i], at_speed(balls, speeds, i, spin, True), f[i], K[i], None, None)[2]
             unsettled[i] = (warnings & BALL_UNSETTLED) != 0
@@ -408,12 +410,12 @@ def map_sweep(inputs, given_load, segments, q, f, K, status, iterations, residua
     spinning_life = want_life and speeds.shape[0] > 0
     # a roller bearing's life needs every slice's load: the record then carries them after the elements;
     # at speed each ring's own contacts: the outer contacts' loads follow the inner ones
-    n_record = n_elements + (slice_count(balls[3]) if roller_life else 0) + (n_elements if spinning_life else 0)
+    n_record = n_elements + (slice_count(balls.slices) if roller_life else 0) + (n_elements if spinning_life else 0)
     results = (q, f, K, status, iterations, residual, max_load, n_loaded, min_angle, max_angle)
     life_results = (L10r, L10r_row, safety)
     for g in prange(groups):
         scratch = (np.empty((WORK_ROWS, 5)), np.empty((PREDICTOR_ROWS, 5)), np.empty(n_record), np.empty(n_record),
-                   np.empty((max(life.shape[0], 1), 2)), warm_scratch(balls[4]))
+                   np.empty((max(life.shape[0], 1), 2)), warm_scratch(balls.speed_table))
         map_runs(range(g, n_runs, groups), inputs, given_load, segments, results, balls, speeds, ball_row,
                  settings, stop, life, C0, life_results, scratch)
 
@@ -513,7 +515,7 @@ def passage_sweep(inputs, given_load, tables, slice_tables, exponent, speed_tabl
                         q[i, p, d] = q[i, p - 1, d]
                 status[i, p], iterations[i, p], residual[i, p] = operating_point(
                     given_load, inputs[i], warm, q[i, p], f[i, p], K[i, p],
-                    (tables[p], exponent, None, slices_at(slice_tables, p), speed_table, omega, spin), settings,
+                    ElementSet(tables[p], exponent, None, slices_at(slice_tables, p), speed_table, omega, spin), settings,
                     work, ball_load, contact_angle)
                 row_summary(ball_load, contact_angle, ball_row, max_load[i, p], n_loaded[i, p], min_angle[i, p],
                             max_angle[i, p])

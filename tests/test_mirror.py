@@ -43,9 +43,9 @@ def planar_q(rng, scale=0.03):
 
 def full_loop(balls):
     """The same ball set with its mirror half withheld: the kernel sums every ball."""
-    table = balls[0].copy()
+    table = balls.balls.copy()
     table[HALF_COUNT] = 0.0
-    return (table,) + tuple(balls[1:])
+    return balls._replace(balls=table)
 
 
 def evaluate(balls, q, n):
