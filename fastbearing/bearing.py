@@ -493,8 +493,8 @@ class Bearing:
 
     def ball_set(self, cage_angle: float = 0.0, speed: float | None = None) -> ElementSet:
         """What the kernel reads (schema.ElementSet): the ball table, per-ball exponents or None when every n
-        is 1.5, None: the exact contact law, the slice table or None without roller rows, speed table, omega,
-        warm starts.
+        is 1.5, smoothing 0.0 (the exact contact law), the slice table or None without roller rows, speed
+        table, omega, warm starts.
         ``speed`` (rpm) None: no speed table, the quasi-static model; a number (0 included): the
         high-speed constants, omega in rad/s and a fresh scratch for the balls' warm starts
         (fastbearing.high_speed; at 0 rpm the kernel takes the quasi-static loop). A ball set at speed
@@ -502,10 +502,10 @@ class Bearing:
         # no roller rows: None, so that the kernels compile no roller code for a ball bearing
         slices = self.slice_table(cage_angle) if self.roller_rows else None
         if speed is None:
-            return ElementSet(self.ball_table(cage_angle), self.ball_exponents, None, slices, None, 0.0, None)
+            return ElementSet(self.ball_table(cage_angle), self.ball_exponents, 0.0, slices, None, 0.0, None)
         from .high_speed import new_warm
 
-        return ElementSet(self.ball_table(cage_angle), self.ball_exponents, None, slices, self.speed_table,
+        return ElementSet(self.ball_table(cage_angle), self.ball_exponents, 0.0, slices, self.speed_table,
                           rpm_to_rad_s(speed), new_warm(self.n_balls))
 
     @cached_property

@@ -150,12 +150,13 @@ def ball_loop(q, balls, f, K, ball_load, contact_angle):
     q : (5,) float64
         (dx, dy, dz, bx, by) in mm and rad at the bearing centre.
     balls : schema.ElementSet (balls, exponents, smoothing, slices, speed_table, omega, warm)
-        ``table`` (bearing.N_BALL_COLUMNS, n_balls) float64, column-major per-ball data from
-        :meth:`fastbearing.Bearing.ball_set`; ``exponent`` None (all balls
+        ``balls`` (schema.N_BALL_COLUMNS, n_balls) float64, column-major per-ball data from
+        :meth:`fastbearing.Bearing.ball_set`; ``exponents`` None (all balls
         n = 1.5) or (n_balls,) float64 per-ball exponents (which picks the
         power law; the loop reads each column's n from the table); ``smoothing``
-        None (the exact contact law) or eps in mm (see
-        :func:`clamped_deflection`); ``slices`` (14, n_slices) the roller
+        eps in mm, 0.0 for the exact contact law (a number whatever its value,
+        so the callers compile once; see :func:`clamped_deflection` and
+        :func:`_ball_block`); ``slices`` (14, n_slices) the roller
         slices (rollers.slice_table; None for a ball bearing), added
         by :func:`slice_loop`; ``speed_table`` None (the quasi-static model) or
         the per-ball constants of the high-speed model (bearing.speed_table)
@@ -206,7 +207,10 @@ def _roller_rows(q, slices, smoothing, f, K, ball_load, contact_angle):
     def rollers(q, slices, smoothing, f, K, ball_load, contact_angle):
         if slices.shape[1] == 0:
             return 0.0, 0
-        return slice_loop(q, slices, smoothing, f, K, ball_load, contact_angle)
+        eps = smoothing_eps(smoothing)
+        if eps > 0.0:  # the solver's fallback; the exact law compiles without the smoothing's arithmetic
+            return slice_loop(q, slices, eps, f, K, ball_load, contact_angle)
+        return slice_loop(q, slices, None, f, K, ball_load, contact_angle)
     return rollers
 
 
@@ -287,18 +291,29 @@ def quasi_static_balls(q, table, exponent, smoothing, f, K, ball_load, contact_a
     Kb entries coupling y, tx to x, z, ty) are exactly zero, as the symmetry makes them. 16 of the
     example's 28 balls, for the same answer to rounding."""
     n_half = int(table[HALF_COUNT, 0]) if table.shape[1] > 0 else 0
+    eps = smoothing_eps(smoothing)
     if n_half > 0 and q[1] == 0.0 and q[3] == 0.0:
-        acc, total, n_loaded, warnings = ball_sums(q, table, MIRROR_HALF, n_half, exponent, smoothing, K, ball_load,
-                                                   contact_angle)
+        acc, total, n_loaded, warnings = _ball_block(q, table, MIRROR_HALF, n_half, exponent, eps, K, ball_load,
+                                                     contact_angle)
         (f0, f1, f2, f3, f4, k00, k01, k02, k03, k04, k11, k12, k13, k22, k23, k24, k33, k34, k44) = acc
         acc = (f0, 0.0, f2, 0.0, f4, k00, 0.0, k02, 0.0, k04, k11, 0.0, k13, k22, 0.0, k24, k33, 0.0, k44)
         if ball_load is not None:
             spread_mirror_record(table, n_half, ball_load, contact_angle)
     else:
-        acc, total, n_loaded, warnings = ball_sums(q, table, 0, table.shape[1], exponent, smoothing, K, ball_load,
-                                                   contact_angle)
+        acc, total, n_loaded, warnings = _ball_block(q, table, 0, table.shape[1], exponent, eps, K, ball_load,
+                                                     contact_angle)
     _store(acc, f, K, False)
     return total, n_loaded, warnings
+
+
+@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def _ball_block(q, table, base, n, exponent, eps, K, ball_load, contact_angle):
+    """:func:`ball_sums` with the smoothing eps (mm) as a number, chosen at run time: the exact law (eps 0,
+    every evaluation but the solver's fallback) runs the loop compiled without the smoothing's arithmetic,
+    while the callers compile once for either (the smoothing is not a type that multiplies them)."""
+    if eps > 0.0:
+        return ball_sums(q, table, base, n, exponent, eps, K, ball_load, contact_angle)
+    return ball_sums(q, table, base, n, exponent, None, K, ball_load, contact_angle)
 
 
 @njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)

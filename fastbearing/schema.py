@@ -13,7 +13,7 @@ from collections import namedtuple
 
 #: What the kernels read of a bearing (bearing.Bearing.ball_set), by name: ``balls`` the ball table
 #: (N_BALL_COLUMNS, n_balls); ``exponents`` None (every ball Hertzian, n = 1.5) or the per-ball n;
-#: ``smoothing`` None (the exact contact law) or the solver's smoothing eps (mm); ``slices`` None (no roller
+#: ``smoothing`` the solver's smoothing eps (mm; 0.0: the exact contact law); ``slices`` None (no roller
 #: rows) or the slice table (N_SLICE_COLUMNS, n_slices); ``speed_table`` None (the quasi-static model) or the
 #: balls' high-speed constants (N_SPEED_COLUMNS, n_balls) with ``omega`` the shaft speed (rad/s) and
 #: ``warm`` the balls' warm-start scratch (high_speed.new_warm). A None part compiles no code for it.

@@ -515,7 +515,7 @@ def passage_sweep(inputs, given_load, tables, slice_tables, exponent, speed_tabl
                         q[i, p, d] = q[i, p - 1, d]
                 status[i, p], iterations[i, p], residual[i, p] = operating_point(
                     given_load, inputs[i], warm, q[i, p], f[i, p], K[i, p],
-                    ElementSet(tables[p], exponent, None, slices_at(slice_tables, p), speed_table, omega, spin), settings,
+                    ElementSet(tables[p], exponent, 0.0, slices_at(slice_tables, p), speed_table, omega, spin), settings,
                     work, ball_load, contact_angle)
                 row_summary(ball_load, contact_angle, ball_row, max_load[i, p], n_loaded[i, p], min_angle[i, p],
                             max_angle[i, p])
