@@ -101,57 +101,42 @@ def read_source(path, case: int | None = None, at: dict | None = None) -> Source
         return Source(K, [status], {k: body[k] for k in ("q", "f", "status") if k in body})
     if suffix not in (".h5", ".hdf5"):
         raise ValueError(f"SOURCE must be a .json or .h5 file, got {path.name!r}")
-    import h5py
+    from .storage import COMPLETE, ResultFile
 
-    try:
-        with h5py.File(path, "r") as fh:
-            if int(fh.attrs.get("fastbearing_complete", 0)) != 1:
-                raise ValueError(f"{path} is not a finished fastbearing file (an interrupted run's .part?); "
-                                 "finish it with --resume first")
-            node = fh.get("K")
-            if not isinstance(node, h5py.Dataset) or node.shape[-2:] != (5, 5) or node.dtype.kind != "f":
-                raise ValueError(f"{path} is not a fastbearing map or table (no 5 x 5 variable K)")
-            lead = node.shape[:-2]
-            n = int(np.prod(lead))
-            coords = _case_coordinates(fh, node)
-            picked = ""
-            if at is not None:
-                case, picked = _nearest_case(fh, node, coords, at)
-            codes = fh["status"][()].reshape(-1) if "status" in fh else np.zeros(n, np.int8)
-            if case is not None:
-                if not 0 <= case < n:
-                    raise ValueError(f"--case must be in [0, {n - 1}] (the flat case index), got {case}")
-                K = node[np.unravel_index(case, lead)]
-                codes = codes[case:case + 1]
-                coords = {k: (v[case:case + 1], u) for k, (v, u) in coords.items()}
-            else:
-                K = node[()].reshape(-1, 5, 5)
-    except OSError:
-        raise ValueError(f"{path} is not a readable HDF5 file") from None
+    with ResultFile(path) as rf:
+        if int(rf.file_attrs.get(COMPLETE, 0)) != 1:
+            raise ValueError(f"{path} is not a finished fastbearing file (an interrupted run's .part?); "
+                             "finish it with --resume first")
+        if not rf.has("K") or rf.shape("K")[-2:] != (5, 5) or rf.dtype("K").kind != "f":
+            raise ValueError(f"{path} is not a fastbearing map or table (no 5 x 5 variable K)")
+        lead = rf.shape("K")[:-2]
+        n = int(np.prod(lead))
+        coords = _case_coordinates(rf)
+        picked = ""
+        if at is not None:
+            case, picked = _nearest_case(rf, at)
+        codes = rf.read("status").reshape(-1) if rf.has("status") else np.zeros(n, np.int8)
+        if case is not None:
+            if not 0 <= case < n:
+                raise ValueError(f"--case must be in [0, {n - 1}] (the flat case index), got {case}")
+            K = rf.read("K", np.unravel_index(case, lead))
+            codes = codes[case:case + 1]
+            coords = {k: (v[case:case + 1], u) for k, (v, u) in coords.items()}
+        else:
+            K = rf.read("K").reshape(-1, 5, 5)
     from . import status as st
 
     return Source(np.asarray(K, dtype=float), [st.describe(int(c)) for c in codes], {}, coords, picked)
 
 
-def _dim_names(ds) -> list[str]:
-    """The dimension-scale name attached to each axis of an HDF5 dataset ('' where none)."""
-    names = []
-    for d in ds.dims:
-        scales = list(d.keys())
-        names.append(scales[0] if scales else "")
-    return names
-
-
-def _case_coordinates(fh, K) -> dict:
+def _case_coordinates(rf) -> dict:
     """Every case's coordinates, flattened in C order over K's leading dims: the five inputs (grid dims,
     constants or a table's columns) first, then the other coordinates along those dims (position,
     cage_angle, time ...); name -> (values (N,), units). A case table's ``case`` number is the flat index
-    itself and is not repeated."""
-    import h5py
-
-    lead_dims = _dim_names(K)[:-2]
-    shape = K.shape[:-2]
-    given = str(fh.attrs.get("given", "load"))
+    itself and is not repeated. ``rf``: a storage.ResultFile."""
+    lead_dims = rf.dims("K")[:-2]
+    shape = rf.shape("K")[:-2]
+    given = str(rf.file_attrs.get("given", "load"))
     names = AXES.get(given, AXES["load"])
     out = {}
 
@@ -160,29 +145,27 @@ def _case_coordinates(fh, K) -> dict:
         view[axis] = len(values)
         return np.broadcast_to(np.asarray(values, float).reshape(view), shape).reshape(-1)
 
-    listed = K.attrs.get("coordinates", "")
-    others = (listed.decode() if isinstance(listed, bytes) else str(listed)).split()  # CF: scalar and aux coords
+    others = str(rf.attrs("K").get("coordinates", "")).split()  # CF: scalar and aux coords
     for name in (*names, *lead_dims, *others):
-        ds = fh.get(name)
-        if name == "case" or not isinstance(ds, h5py.Dataset) or name in out or ds.dtype.kind not in "fiu":
+        if name == "case" or not rf.has(name) or name in out or rf.dtype(name).kind not in "fiu":
             continue
-        units = ds.attrs.get("units", "1")
-        units = units.decode() if isinstance(units, bytes) else str(units)
-        if ds.ndim == 0:
-            out[name] = (np.full(int(np.prod(shape)), float(ds[()])), units)
+        units = str(rf.attrs(name).get("units", "1"))
+        if rf.ndim(name) == 0:
+            out[name] = (np.full(int(np.prod(shape)), float(rf.read(name))), units)
             continue
-        if ds.ndim != 1:
+        if rf.ndim(name) != 1:
             continue
-        dim = name if name in lead_dims else (_dim_names(ds)[0] if ds.dims[0].keys() else "")
-        if dim in lead_dims and len(ds) == shape[lead_dims.index(dim)]:
-            out[name] = (broadcast(ds[()], lead_dims.index(dim)), units)
+        dim = name if name in lead_dims else rf.dims(name)[0]
+        if dim in lead_dims and rf.shape(name)[0] == shape[lead_dims.index(dim)]:
+            out[name] = (broadcast(rf.read(name), lead_dims.index(dim)), units)
     return out
 
 
-def _nearest_case(fh, K, coords: dict, at: dict) -> tuple[int, str]:
-    """The flat index of the case nearest to ``at`` along every leading dim, and a line saying which."""
-    lead_dims = _dim_names(K)[:-2]
-    shape = K.shape[:-2]
+def _nearest_case(rf, at: dict) -> tuple[int, str]:
+    """The flat index of the case nearest to ``at`` along every leading dim of K (``rf``: a
+    storage.ResultFile), and a line saying which."""
+    lead_dims = rf.dims("K")[:-2]
+    shape = rf.shape("K")[:-2]
     unknown = sorted(set(at) - set(lead_dims))
     missing = [d for d in lead_dims if d not in at]
     if unknown or missing:
@@ -190,7 +173,7 @@ def _nearest_case(fh, K, coords: dict, at: dict) -> tuple[int, str]:
                          f"(unknown {unknown}, missing {missing})")
     index, said = [], []
     for axis, dim in enumerate(lead_dims):
-        values = fh[dim][()] if dim in fh else np.arange(shape[axis])
+        values = rf.read(dim) if rf.has(dim) else np.arange(shape[axis])
         values = np.asarray(values, float)
         k = int(np.argmin(np.abs(values - at[dim])))
         index.append(k)

@@ -166,13 +166,12 @@ def read_case_file(path: Path, where: str) -> np.ndarray:
         elif suffix == ".csv":
             table = _read_csv_cases(path, where)
         else:
-            import h5py
+            from .storage import ResultFile
 
-            with h5py.File(path, "r") as fh:
-                node = fh.get("cases")
-                if not isinstance(node, h5py.Dataset):
+            with ResultFile(path) as rf:
+                if not rf.has("cases"):
                     raise ValueError(f"{where}: {path} has no dataset 'cases' (N x 5)")
-                table = node[()]
+                table = rf.read("cases")
     except ValueError as err:
         if str(err).startswith(where):
             raise

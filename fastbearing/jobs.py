@@ -121,10 +121,8 @@ def case_coordinates(cases: CaseSet):
 
 
 def _dof_dims(bearing: Bearing) -> list[storage.Coordinate]:
-    import h5py
-
     C = storage.Coordinate
-    labels = np.array(DOF_LABELS, dtype=h5py.string_dtype())
+    labels = np.array(DOF_LABELS)
     return [C("dof", labels, "1", "degree of freedom: x, y, z translations; tx, ty tilts"),
             C("dof_col", labels, "1", "degree of freedom (column of K)"),
             C("row", np.arange(bearing.n_rows), "1", "bearing row (as in the bearing definition)")]
@@ -297,7 +295,7 @@ def _compute(job: Job, part: Path, out: Path, blocks, threads, progress, client,
                 from .distributed import run_blocks
 
                 writer = storage.BlockWriter(pf, [object() for _ in range(4)], on_written)
-                pf.fh.attrs.update(run_blocks(client, job, pending, writer, interrupt, max_in_flight))
+                pf.update_attrs(run_blocks(client, job, pending, writer, interrupt, max_in_flight))
         if bar is not None:
             bar.close()
     except KeyboardInterrupt:
@@ -337,14 +335,7 @@ def _close_quietly(pf: storage.PartFile) -> None:
 def _full(part: Path, job: Job, when: str = "") -> DiskFull:
     import shutil
 
-    import h5py
-
-    done = 0
-    try:
-        with h5py.File(part, "r") as fh:
-            done = int(fh["block_done"][...].sum())
-    except Exception:  # noqa: BLE001 - the message must come out whatever the file's state
-        pass
+    done = storage.finished_blocks(part)
     need = storage.human_size(job.bytes_needed())
     free = storage.human_size(shutil.disk_usage(part.parent).free)
     return DiskFull(f"fastbearing: the disk is full{' ' + when if when else ''}: {done} finished blocks are "
@@ -399,15 +390,8 @@ def _next(job: Job, pending, k: int, writer):
 
 
 def _status_counts(pf: storage.PartFile) -> dict[int, int]:
-    """Solves per status code, read in slices so memory stays bounded."""
-    counts: dict[int, int] = {}
-    ds = pf.fh["status"]
-    step = max(1, 4_000_000 // max(1, int(np.prod(ds.shape[1:]))))
-    for a in range(0, ds.shape[0], step):
-        codes, n = np.unique(ds[a:a + step], return_counts=True)
-        for c, k in zip(codes.tolist(), n.tolist()):
-            counts[c] = counts.get(c, 0) + k
-    return counts
+    """Solves per status code (read in slices, so memory stays bounded)."""
+    return pf.value_counts("status")
 
 
 def _summary(job: Job, counts: dict[int, int], wall: float, computed: int, finish: float = 0.0) -> str:

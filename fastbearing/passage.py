@@ -318,12 +318,11 @@ def passage(config, output=None, *, threads=None, resume=False, overwrite=False,
 
 def _write_csv_files(h5: Path, cfg: PassageConfig, paths: list[Path]) -> None:
     """One CSV per operating point, read point by point from the finished file (memory: one point)."""
-    import h5py
+    from .storage import ResultFile
 
-    with h5py.File(h5, "r") as fh:
-        K = fh["K"]
+    with ResultFile(h5) as rf:
         for i, path in enumerate(paths):
-            _write_csv(path, cfg, K[np.unravel_index(i, cfg.cases.shape)])
+            _write_csv(path, cfg, rf.read("K", np.unravel_index(i, cfg.cases.shape)))
 
 
 def _write_csv(path: Path, cfg: PassageConfig, K: np.ndarray) -> None:

@@ -217,7 +217,10 @@ def create(path: Path, case_dims: list[Coordinate], extra_dims: list[Coordinate]
     shape = tuple(len(c.values) for c in case_dims)
     with h5py.File(path, "w", track_order=True) as fh:
         for c in (*case_dims, *extra_dims):
-            ds = fh.create_dataset(c.name, data=c.values)
+            values = np.asarray(c.values)
+            # text labels (the dof names) as HDF5's variable-length strings, which netCDF readers take
+            ds = fh.create_dataset(c.name, data=values.astype(h5py.string_dtype()) if values.dtype.kind in "UO"
+                                   else values)
             ds.make_scale(c.name)
             ds.attrs["units"] = c.units
             ds.attrs["long_name"] = c.long_name
@@ -274,8 +277,94 @@ class PartFile:
         self.fh["block_done"][index] = 1
         self.fh.flush()
 
+    def update_attrs(self, attrs: dict) -> None:
+        """File attributes added or replaced (e.g. a distributed run's provenance)."""
+        self.fh.attrs.update(attrs)
+
+    def value_counts(self, name: str) -> dict[int, int]:
+        """How often each value occurs in the integer variable ``name`` (status codes), read in slices so
+        that memory stays bounded whatever the file's size."""
+        counts: dict[int, int] = {}
+        ds = self.fh[name]
+        step = max(1, 4_000_000 // max(1, int(np.prod(ds.shape[1:]))))
+        for a in range(0, ds.shape[0], step):
+            codes, n = np.unique(ds[a:a + step], return_counts=True)
+            for c, k in zip(codes.tolist(), n.tolist()):
+                counts[c] = counts.get(c, 0) + k
+        return counts
+
     def close(self) -> None:
         self.fh.close()
+
+
+def finished_blocks(part: Path) -> int:
+    """How many blocks a working file holds finished (0 where it cannot be read: a message must still come
+    out of a full disk, whatever the file's state)."""
+    try:
+        with h5py.File(part, "r") as fh:
+            return int(fh["block_done"][...].sum())
+    except Exception:  # noqa: BLE001
+        return 0
+
+
+class ResultFile:
+    """A result store opened for reading, by variable name: what the readers (export, passage CSV, case
+    tables) need of a file, without an HDF5 handle of their own. ValueError for a file that cannot be read.
+
+    ``names()`` the variables and coordinates; ``has(name)``; ``shape``, ``dtype``, ``ndim`` of one;
+    ``dims(name)`` the dimension name of each axis ('' where none); ``attrs(name)`` its attributes (text
+    decoded) and ``file_attrs`` the file's; ``read(name, index)`` its values (all, or ``index``).
+    """
+
+    def __init__(self, path: Path):
+        self.path = Path(path)
+        try:
+            self._fh = h5py.File(self.path, "r")
+        except OSError:
+            raise ValueError(f"{self.path} is not a readable HDF5 file") from None
+        self.file_attrs = _decoded(self._fh.attrs)
+
+    def __enter__(self) -> "ResultFile":
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+    def close(self) -> None:
+        self._fh.close()
+
+    def names(self) -> list[str]:
+        return [k for k, v in self._fh.items() if isinstance(v, h5py.Dataset)]
+
+    def has(self, name: str) -> bool:
+        return isinstance(self._fh.get(name), h5py.Dataset)
+
+    def shape(self, name: str) -> tuple[int, ...]:
+        return self._fh[name].shape
+
+    def ndim(self, name: str) -> int:
+        return self._fh[name].ndim
+
+    def dtype(self, name: str) -> np.dtype:
+        return self._fh[name].dtype
+
+    def dims(self, name: str) -> list[str]:
+        out = []
+        for d in self._fh[name].dims:
+            scales = list(d.keys())
+            out.append(scales[0] if scales else "")
+        return out
+
+    def attrs(self, name: str) -> dict:
+        return _decoded(self._fh[name].attrs)
+
+    def read(self, name: str, index=()) -> np.ndarray:
+        return self._fh[name][index]
+
+
+def _decoded(attrs) -> dict:
+    """An HDF5 attribute set as a dict, bytes decoded to text."""
+    return {k: (v.decode() if isinstance(v, bytes) else v) for k, v in attrs.items()}
 
 
 class BlockWriter:

@@ -74,6 +74,16 @@ def test_no_import_circles():
     assert cycle is None, " -> ".join(cycle)
 
 
+def test_only_the_storage_module_touches_an_hdf5_handle():
+    """The stores are reached through storage.py (PartFile, ResultFile, create, finish): no other module of
+    the package imports h5py, so a second store (zarr) is added in one place (issue 35)."""
+    graph_sources = {path.name: path.read_text() for path in PACKAGE.rglob("*.py")}
+    users = sorted(name for name, text in graph_sources.items()
+                   if name != "storage.py" and any(line.strip().startswith(("import h5py", "from h5py"))
+                                                    for line in text.splitlines()))
+    assert not users, users
+
+
 def test_every_module_with_kernels_is_in_the_cache_hash():
     """A module whose @njit code (or a constant compiled into it) is not hashed would leave its callers'
     cached machine code stale when it changes (numba tracks a function's own file only). The hashed set is
