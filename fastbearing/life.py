@@ -203,20 +203,6 @@ def roller_contact_ratings(geometry, C_row: float) -> tuple[float, float]:
     return C_row / (0.378 * zc) * (1.0 + T ** 4.5) ** (2.0 / 9.0), C_row / (0.364 * zc) * (1.0 + T ** -4.5) ** (2.0 / 9.0)
 
 
-def roller_row_life(slice_loads, Q_ci: float, Q_ce: float, rotating: str = "inner") -> float:
-    """ISO/TS 16281 L10r (million revolutions) of a roller row from its slice loads (Z, n_s) in N: lamina
-    ratings q_c = Q_c n_s^(-7/9); per lamina the 4th-power mean over the rollers on the rotating ring and
-    the 9/2-power mean on the stationary one; (sum over laminae of (q_e/q_c)^(9/2), both rings)^(-8/9)."""
-    q = np.asarray(slice_loads, float)
-    n_rollers, n_slices = q.shape
-    q_ci, q_ce = (Q * n_slices ** (-7.0 / 9.0) for Q in (Q_ci, Q_ce))
-    fourth = np.sum(q ** 4, axis=0) / n_rollers          # (q_e)^4 of each lamina, 4th-power mean
-    nine_halves = np.sum(q ** 4.5, axis=0) / n_rollers   # (q_e)^(9/2), 9/2-power mean
-    rot, sta = (fourth ** (9.0 / 8.0), nine_halves) if rotating == "inner" else (nine_halves, fourth ** (9.0 / 8.0))
-    s = float(np.sum(rot) * q_ci ** -4.5 + np.sum(sta) * q_ce ** -4.5)
-    return s ** (-8.0 / 9.0) if s > 0 else math.inf
-
-
 def roller_equivalent_load(Fr, Fa, alpha_deg: float, unit_rows: bool):
     """ISO 281 Table 8 P = X Fr + Y Fa (N) of a roller bearing: cylindrical (a = 0) P = Fr; tapered
     e = 1.5 tan a, single row X = 0.4, Y = 0.4 cot a above e (1, 0 below); a double row 0.67, 0.67 cot a
@@ -270,17 +256,6 @@ def combine_series(lives, slopes) -> float:
         else:
             lo = mid
     return math.exp(0.5 * (lo + hi))
-
-
-def row_life(Q_ci, Q_ce, sum_cube, sum_ten_thirds, n_balls, rotating: str = "inner"):
-    """L10r of rows (million revolutions) from the sums over each row's balls of Q^3 and Q^(10/3) (N);
-    arrays broadcast. The rotating ring's contacts see the cubic mean, the stationary ring's the 10/3 mean."""
-    cube = (np.asarray(sum_cube, float) / n_balls) ** (1.0 / 3.0)
-    ten = (np.asarray(sum_ten_thirds, float) / n_balls) ** 0.3
-    Q_ei, Q_ee = (cube, ten) if rotating == "inner" else (ten, cube)
-    with np.errstate(divide="ignore"):
-        s = (Q_ci / Q_ei) ** (-10.0 / 3.0) + (Q_ce / Q_ee) ** (-10.0 / 3.0)
-        return np.where(s > 0, s ** -0.9, np.inf)
 
 
 # -- ISO 281 equivalent loads ----------------------------------------------------------------------
@@ -656,17 +631,22 @@ def life(bearing, load, q, settings: LifeSettings | None = None) -> LifeResult:
 def _ball_lives(bearing, q, r: BearingRatings, settings: LifeSettings):
     """Rows' L10r, equivalent contact loads Q_ei, Q_ee and the largest contact pressure, ball rows."""
     from .contacts import ball_contacts
+    from .sweep import case_life
 
     at_speed = settings.balls_at_speed and bool(settings.speed)
     contacts = ball_contacts(bearing, q, settings.speed if at_speed else 0.0)  # one evaluation: loads, pressures
     inner = outer = contacts.load
     if at_speed:  # each ring its own contacts: the centrifugal force loads the outer race more
         inner, outer = contacts.inner_load, contacts.outer_load
+    rows = bearing.ball_table()[ROW].astype(np.int64)
+    # the life itself by the maps' one implementation (sweep.case_life), from each ring's own contacts
+    L_rows = np.empty(bearing.n_rows)
+    case_life(np.ascontiguousarray(inner), np.ascontiguousarray(outer) if at_speed else None, rows,
+              life_table(r, settings), np.empty((bearing.n_rows, 2)), L_rows)
+    # the equivalent contact loads, for the report
     rotating, standing = (inner, outer) if settings.rotating == "inner" else (outer, inner)
-    rows = bearing.ball_table()[ROW].astype(int)
     cube = np.bincount(rows, rotating ** 3, minlength=bearing.n_rows)
     ten = np.bincount(rows, standing ** (10.0 / 3.0), minlength=bearing.n_rows)
-    L_rows = row_life(r.Q_ci, r.Q_ce, cube, ten, r.n_balls, settings.rotating)
     mean3, mean10 = (cube / r.n_balls) ** (1 / 3), (ten / r.n_balls) ** 0.3
     Q_ei, Q_ee = (mean3, mean10) if settings.rotating == "inner" else (mean10, mean3)
     pressure = contacts.max_pressure_per_row()
@@ -677,10 +657,14 @@ def _roller_lives(bearing, q, r: BearingRatings, settings: LifeSettings):
     """Rows' L10r from the slice loads (ISO/TS 16281 sliced), the whole rollers' equivalent loads (the
     4th- and 9/2-power means of the roller loads) and the largest line-contact pressure."""
     from .contacts import rollers_from_slices, slice_loads
+    from .sweep import roller_case_life
 
     roller_loads, per_row = slice_loads(bearing, q)  # one kernel evaluation: slice loads and pressures
-    L_rows = np.array([roller_row_life(loads, Qci, Qce, settings.rotating)
-                       for loads, Qci, Qce in zip(per_row, r.Q_ci, r.Q_ce)])
+    # the life by the maps' one implementation (sweep.roller_case_life), from a record laid out as the
+    # kernel's: the elements, then every slice row by row, roller by roller
+    record = np.concatenate([np.zeros(bearing.n_elements), *(loads.ravel() for loads in per_row)])
+    L_rows = np.empty(bearing.n_rows)
+    roller_case_life(record, bearing.n_elements, life_table(r, settings), L_rows)
     totals = [loads.sum(axis=1) for loads in per_row]
     mean4 = np.array([np.mean(t ** 4) ** 0.25 for t in totals])
     mean45 = np.array([np.mean(t ** 4.5) ** (1 / 4.5) for t in totals])
