@@ -29,6 +29,7 @@ _PUBLIC = {
                      "geometry_from_table", "hertz_contact", "race_contacts"), "geometry"),
     **dict.fromkeys(("LifeResult", "rating_life"), "life"),
     **dict.fromkeys(("loadmap", "open_dataset"), "loadmap"),
+    **dict.fromkeys(("bearing_report", "bearing_report_text"), "report"),
     "passage": "passage",
 }
 

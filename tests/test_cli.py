@@ -162,3 +162,22 @@ def test_version_usage_and_overwrite_wording(tmp_path):
     assert "overwrite=True" not in again.stderr
     with pytest.raises(ValueError, match="exists; pass overwrite=True"):
         fb.loadmap(cfg, "m.h5", progress=False)
+
+
+def test_the_bearing_report_is_reachable_from_python_and_gives_the_speed_limit():
+    """`fastbearing bearing FILE --json` is fb.bearing_report (the report lives outside the command line),
+    with the bearing's speed limit where it can run at speed (bearing.speed_limit), none for roller rows."""
+    import json as _json
+    from pathlib import Path
+
+    from conftest import cli_run
+
+    import fastbearing as fb
+
+    data = Path(__file__).parents[1] / "data" / "bearings"
+    for name in ("7014C-DB.toml", "NU205.toml", "6305.toml"):
+        b = fb.load_bearing(data / name)
+        body = _json.loads(cli_run("bearing", data / name, "--json").stdout)
+        assert body == _json.loads(_json.dumps(fb.bearing_report(b)))
+        assert ("speed_limit" in body) == (name != "NU205.toml")
+    assert fb.bearing_report(fb.load_bearing(data / "7014C-DB.toml"))["speed_limit"] == pytest.approx(134291.28, rel=1e-6)

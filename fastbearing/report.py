@@ -1,0 +1,154 @@
+"""Text reports of a bearing: its derived model parameters, for `fastbearing bearing FILE` and for Python
+(``fb.bearing_report(bearing)``).
+
+Units: lengths mm, angles deg (and rad where said), Hertz constants N/mm^n, moduli N/mm^2, speeds rpm.
+"""
+
+from __future__ import annotations
+
+import math
+
+from .bearing import check_speed_model, speed_limit
+from .geometry import load_centre_spread
+from .rollers import RollerRow
+
+
+def bearing_report(bearing) -> dict:
+    """A bearing's derived model parameters, JSON-ready (what `fastbearing bearing FILE --json` prints): every
+    row's (lengths mm, angles deg and rad, Kn N/mm^n), the load-centre spread of a double row (mm), the catalogue
+    geometry's and both race contacts' where the bearing has one, and its speed limit (rpm) where it can run
+    at speed."""
+    rows = []
+    for r in bearing.rows:
+        if isinstance(r, RollerRow):
+            rows.append({"element": r.element, "axial_offset": r.axial_offset, "contact_direction": r.contact_direction,
+                         "n_rollers": r.n_rollers, "hertz_constant": r.hertz_constant, "pitch_radius": r.pitch_radius,
+                         "roller_effective_length": r.roller_effective_length, "contact_angle_deg": r.contact_angle,
+                         "slices": r.slices, "slice_width": r.roller_effective_length / r.slices, "crown": r.crown,
+                         "crown_drop_at_ends": float(r.crown_drop(r.slice_positions[[0]])[0]),
+                         "radial_clearance": r.radial_clearance, "axial_preload": r.axial_preload})
+            continue
+        af = r.free_contact_angle
+        rows.append({"axial_offset": r.axial_offset, "contact_direction": r.contact_direction, "n_balls": r.n_balls,
+                     "hertz_constant": r.hertz_constant, "exponent": r.exponent,
+                     "groove_center_distance": r.groove_center_distance, "pitch_radius": r.pitch_radius,
+                     "radial_clearance": r.radial_clearance, "contact_angle_deg": r.contact_angle,
+                     "free_contact_angle": af, "free_contact_angle_deg": math.degrees(af),
+                     "axial_preload": r.axial_preload, "rest_deflection": r.rest_deflection,
+                     "rest_contact_angle_deg": math.degrees(r.rest_contact_angle),
+                     "deflection_limit": r.validity_deflection})
+    out = {"name": bearing.name, "arrangement": bearing.arrangement, "rows": rows}
+    if bearing.arrangement in ("DB", "DF", "DT") and not bearing.roller_rows:
+        r = bearing.rows[1]
+        out["load_centre_spread"] = load_centre_spread(bearing.arrangement, r.axial_offset, r.pitch_radius,
+                                                       math.radians(r.contact_angle))
+    g = bearing.geometry
+    if g is not None and hasattr(g, "roller_diameter"):
+        out["roller_geometry"] = {
+            "element": g.element, "n_rollers": g.n_rollers, "roller_diameter": g.roller_diameter,
+            "roller_effective_length": g.roller_effective_length, "pitch_diameter": g.pitch_diameter,
+            "contact_angle_deg": g.contact_angle, "diametral_clearance": g.diametral_clearance,
+            "row_spacing": g.row_spacing, "roller_material": vars(g.roller_material),
+            "ring_material": vars(g.ring_material), "reduced_modulus": g.reduced_modulus,
+            "hertz_constant": g.hertz_constant}
+    elif g is not None:
+        inner, outer = g.contacts()
+        out["geometry"] = {
+            "n_balls": g.n_balls, "ball_diameter": g.ball_diameter, "pitch_diameter": g.pitch_diameter,
+            "inner_groove_ratio": g.inner_groove_ratio, "outer_groove_ratio": g.outer_groove_ratio,
+            "contact_angle_deg": g.contact_angle, "diametral_clearance": g.diametral_clearance,
+            "row_spacing": g.row_spacing, "ellipticity_method": g.ellipticity,
+            "ball_material": vars(g.ball_material), "ring_material": vars(g.ring_material),
+            "reduced_modulus": g.reduced_modulus, "contact_pressure_limit": g.contact_pressure_limit,
+            "contacts": {side: {"hertz_constant": c.constant, "ellipticity": c.ellipticity,
+                                "curvature_sum": c.curvature_sum, "curvature_ratio": max(c.curvature_x, c.curvature_y)
+                                / min(c.curvature_x, c.curvature_y)}
+                         for side, c in (("inner", inner), ("outer", outer))}}
+    try:
+        check_speed_model(bearing)
+    except ValueError:  # roller rows, or no geometry: no high-speed model, no speed limit
+        pass
+    else:
+        out["speed_limit"] = speed_limit(bearing)
+    return out
+
+
+def bearing_report_text(rep: dict, bearing) -> str:
+    """The report of :func:`bearing_report` as `fastbearing bearing FILE` prints it (units beside every value)."""
+    lines = [f"{rep['name'] or 'bearing'}: {rep['arrangement']}, {len(rep['rows'])} row(s)"]
+    rg = rep.get("roller_geometry")
+    if rg is not None:
+        lines += ["catalogue geometry:",
+                  f"  rollers per row      Z  = {rg['n_rollers']} ({rg['element'].replace('_', ' ')}s)",
+                  f"  roller diameter      Dw = {rg['roller_diameter']:g} mm",
+                  f"  effective length     l  = {rg['roller_effective_length']:g} mm",
+                  f"  pitch diameter       dm = {rg['pitch_diameter']:g} mm",
+                  f"  contact angle        a  = {rg['contact_angle_deg']:g} deg",
+                  f"  diametral clearance  Pd = {rg['diametral_clearance']:g} mm",
+                  f"  reduced modulus      E' = {rg['reduced_modulus']:.6g} N/mm^2",
+                  f"  line contact (Palmgren, both raceways in series): K = 37 310 l^(8/9) E'/E'_steel = "
+                  f"{rg['hertz_constant']:.6g} N/mm^(10/9)"]
+    g = rep.get("geometry")
+    if g is not None:
+        geo = bearing.geometry
+        lines += ["catalogue geometry:",
+                  f"  balls per row        Z  = {g['n_balls']}",
+                  f"  ball diameter        D  = {g['ball_diameter']:g} mm",
+                  f"  pitch diameter       dm = {g['pitch_diameter']:g} mm",
+                  f"  groove ratios        fi = {g['inner_groove_ratio']:g}, fo = {g['outer_groove_ratio']:g}",
+                  f"  contact angle        a0 = {g['contact_angle_deg']:g} deg",
+                  f"  diametral clearance  Pd = {g['diametral_clearance']:g} mm"]
+        if g["row_spacing"] is not None:
+            lines.append(f"  row spacing          2e = {g['row_spacing']:g} mm")
+        for body in ("ball", "ring"):
+            m = g[f"{body}_material"]
+            lines.append(f"  {body} material        {m['name']}: E = {m['youngs_modulus']:g} N/mm^2, "
+                         f"nu = {m['poisson_ratio']:g}")
+        lines.append(f"  reduced modulus      E' = {g['reduced_modulus']:.6g} N/mm^2; ellipticity: {geo.ellipticity}")
+        for side in ("inner", "outer"):
+            c = g["contacts"][side]
+            lines.append(f"  {side} contact        K = {c['hertz_constant']:.6g} N/mm^1.5, k = a/b = "
+                         f"{c['ellipticity']:.4g}, Ry/Rx = {c['curvature_ratio']:.4g}, "
+                         f"sum rho = {c['curvature_sum']:.5g} 1/mm")
+    lines.append("model parameters:")
+    for i, r in enumerate(rep["rows"]):
+        if "element" in r:
+            lines += [f"  row {i}: {r['element'].replace('_', ' ')}s, z = {r['axial_offset']:g} mm, contact direction "
+                      f"{r['contact_direction']:+d}, Z = {r['n_rollers']}",
+                      f"    line-contact constant      K  = {r['hertz_constant']:.6g} N/mm^(10/9) (whole roller)",
+                      f"    pitch radius               R  = {r['pitch_radius']:.6g} mm",
+                      f"    effective length           l  = {r['roller_effective_length']:.6g} mm, {r['slices']} slices "
+                      f"of {r['slice_width']:.4g} mm",
+                      f"    contact angle              a  = {r['contact_angle_deg']:.6g} deg",
+                      f"    crown                      {r['crown']}" + (f", drop {r['crown_drop_at_ends'] * 1e3:.4g} um at "
+                                                                         "the end slices" if r["crown"] != "none" else ""),
+                      f"    radial clearance           rL = {r['radial_clearance']:.6g} mm"]
+            if r["axial_preload"]:
+                lines.append(f"    axial preload              d0 = {r['axial_preload']:.6g} mm")
+            continue
+        lines += [f"  row {i}: z = {r['axial_offset']:g} mm, contact direction {r['contact_direction']:+d}, "
+                  f"Z = {r['n_balls']}",
+                  f"    Hertz constant             Kn = {r['hertz_constant']:.6g} N/mm^{r['exponent']:g}",
+                  f"    groove-centre distance     A0 = {r['groove_center_distance']:.6g} mm",
+                  f"    inner groove-centre radius R  = {r['pitch_radius']:.6g} mm",
+                  f"    radial clearance           rL = {r['radial_clearance']:.6g} mm",
+                  f"    contact angle              a0 = {r['contact_angle_deg']:.6g} deg",
+                  f"    free contact angle         af = {r['free_contact_angle_deg']:.6g} deg "
+                  f"({r['free_contact_angle']:.6g} rad)",
+                  f"    validity: ball deflection <= {r['deflection_limit']:.6g} mm "
+                  + (f"(Hertz pressure {g['contact_pressure_limit']:g} N/mm^2)" if g is not None
+                     else f"({r['deflection_limit'] / r['groove_center_distance']:.3g} A0)")]
+        if r["axial_preload"]:
+            lines.append(f"    axial preload              d0 = {r['axial_preload']:.6g} mm")
+        if r["rest_deflection"] > 0:
+            lines.append(f"    preload ball deflection    delta0 = {r['rest_deflection']:.6g} mm at q = 0, "
+                         f"contact angle {r['rest_contact_angle_deg']:.6g} deg")
+    if "load_centre_spread" in rep:
+        lines.append(f"load-centre spread ({rep['arrangement']}): E = 2(e + c2 R tan a0) = "
+                     f"{rep['load_centre_spread']:.6g} mm")
+    if "speed_limit" in rep:
+        lines.append(f"speed limit: {rep['speed_limit']:.6g} rpm (above it the centrifugal force alone takes a ball "
+                     "beyond the validity limit)")
+    return "\n".join(lines)
+
+
