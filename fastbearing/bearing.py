@@ -491,16 +491,25 @@ class Bearing:
             return self._ball_table_at_rest
         return self._build_ball_table(cage_angle)
 
-    def ball_set(self, cage_angle: float = 0.0, speed: float | None = None) -> ElementSet:
+    @property
+    def mirror_symmetric(self) -> bool:
+        """Whether the ball set at rest is its own mirror image across the xz-plane (every row, every ball
+        like its image), so that the kernel may sum its mirror half under a planar displacement."""
+        return self.n_balls > 0 and self.ball_table()[HALF_COUNT, 0] > 0
+
+    def ball_set(self, cage_angle: float = 0.0, speed: float | None = None, mirror: bool = True) -> ElementSet:
         """What the kernel reads (schema.ElementSet): the ball table, per-ball exponents or None when every n
         is 1.5, smoothing 0.0 (the exact contact law), the slice table or None without roller rows, speed
         table, omega, warm starts.
         ``speed`` (rpm) None: no speed table, the quasi-static model; a number (0 included): the
         high-speed constants, omega in rad/s and a fresh scratch for the balls' warm starts
         (fastbearing.high_speed; at 0 rpm the kernel takes the quasi-static loop). A ball set at speed
-        belongs to one thread."""
+        belongs to one thread. ``mirror`` False switches the mirror half off (:func:`without_mirror_half`):
+        what a per-element feature kept outside the table must ask for."""
         # no roller rows: None, so that the kernels compile no roller code for a ball bearing
         slices = self.slice_table(cage_angle) if self.roller_rows else None
+        if not mirror:  # a per-element feature outside the table switches the mirror half off
+            return self.ball_set(cage_angle, speed)._replace(balls=without_mirror_half(self.ball_table(cage_angle)))
         if speed is None:
             return ElementSet(self.ball_table(cage_angle), self.ball_exponents, 0.0, slices, None, 0.0, None)
         from .high_speed import new_warm
@@ -608,8 +617,11 @@ class Bearing:
 
 def _fill_mirror_half(table: np.ndarray, azimuths: list[np.ndarray]) -> None:
     """Fill the table's mirror half (rows MIRROR_HALF + field, BALL_OF, MIRROR_OF, HALF_COUNT) from its full
-    rows: every ball row must map onto itself under psi -> -psi (its balls identical, as a row's are), else
-    HALF_COUNT is 0 and the kernel always sums every ball.
+    rows: every ball row must map onto itself under psi -> -psi, and every ball's column must equal its
+    image's in every field but the azimuth's sine, else HALF_COUNT is 0 and the kernel always sums every
+    ball. The second condition is what the element set states by itself: any per-element property kept in
+    the table (a ball of its own) switches the half off where it breaks the symmetry, never silently
+    summed wrong.
 
     A row's balls sit at psi_j = theta + 2 pi j / Z; -psi_j is a ball's place exactly when theta is a
     multiple k pi / Z, and then it is ball m = -(j + k) mod Z's (O(Z), for rows of any size)."""
@@ -629,6 +641,8 @@ def _fill_mirror_half(table: np.ndarray, azimuths: list[np.ndarray]) -> None:
             if j <= m:
                 columns.append((start + j, start + m))
         start += n
+    if not all(_mirror_images(table, j, m) for j, m in columns):
+        return  # a ball unlike its image (a per-element property): no symmetry to use
     for c, (j, m) in enumerate(columns):
         table[MIRROR_HALF:MIRROR_HALF + N_BALL_FIELDS, c] = table[:N_BALL_FIELDS, j]
         if m == j:  # on the plane: exactly, so that the y-odd terms vanish
@@ -641,6 +655,22 @@ def _fill_mirror_half(table: np.ndarray, azimuths: list[np.ndarray]) -> None:
         table[BALL_OF, c] = j
         table[MIRROR_OF, c] = m
     table[HALF_COUNT] = len(columns)
+
+
+def without_mirror_half(table: np.ndarray) -> np.ndarray:
+    """A copy of a ball table with its mirror half switched off (HALF_COUNT 0): the kernel sums every ball."""
+    table = table.copy()
+    table[HALF_COUNT] = 0.0
+    return table
+
+
+def _mirror_images(table: np.ndarray, j: int, m: int) -> bool:
+    """Whether ball m's column is ball j's mirrored across the xz-plane: every field equal, but the sine of
+    the azimuth opposite (both to MIRROR_ANGLE_TOL, as the azimuths are)."""
+    others = [f for f in range(N_BALL_FIELDS) if f not in (COS_PSI, SIN_PSI)]
+    return (bool(np.array_equal(table[others, j], table[others, m]))
+            and abs(table[COS_PSI, j] - table[COS_PSI, m]) <= MIRROR_ANGLE_TOL
+            and abs(table[SIN_PSI, j] + table[SIN_PSI, m]) <= MIRROR_ANGLE_TOL)
 
 
 ROW_KEYS = tuple(f.name for f in fields(Row))

@@ -11,7 +11,7 @@ from conftest import random_rows, to_row
 from naive import naive_load_stiffness
 
 import fastbearing as fb
-from fastbearing.bearing import BALL_OF, COS_PSI, HALF_COUNT, MIRROR_HALF, MIRROR_OF, SIN_PSI, WEIGHT
+from fastbearing.bearing import BALL_OF, COS_PSI, HALF_COUNT, KN, MIRROR_HALF, MIRROR_OF, SIN_PSI, WEIGHT
 from fastbearing.kernel import ball_loop
 
 #: Kb entries and f components odd in y: zero under a planar displacement of a mirror-symmetric set.
@@ -158,3 +158,29 @@ def test_planar_solve_stays_in_the_plane():
     # a set turned by 1e-7 degrees has no mirror half (its own dy, bx are about 1e-12 mm, 1e-13 rad)
     every = fb.solve(fb.Bearing.preset("gunduz2013", "DB", first_ball_angle=1e-7), [1000.0, 0.0, 3000.0, 0.0, -74000.0])
     np.testing.assert_allclose(r.q, every.q, rtol=1e-6, atol=1e-10)
+
+
+def test_a_ball_unlike_its_image_switches_the_mirror_half_off(rng):
+    """The element set states its symmetry: any per-ball field that differs between a ball and its mirror
+    image (here one ball's Hertz constant, as a per-element property would) leaves no mirror half, so the
+    planar kernel sums every ball and agrees with the full loop bit for bit; ball_set(mirror=False) is the
+    switch for a feature kept outside the table."""
+    from fastbearing.bearing import _fill_mirror_half
+
+    bearing = fb.Bearing.preset("gunduz2013", "DB")
+    assert bearing.mirror_symmetric
+    balls = bearing.ball_set()
+    odd = balls.balls.copy()
+    odd[KN, 3] *= 1.01
+    _fill_mirror_half(odd, bearing._ball_azimuths(0.0))
+    assert odd[HALF_COUNT, 0] == 0.0
+    off = bearing.ball_set(mirror=False)
+    assert off.balls[HALF_COUNT, 0] == 0.0 and balls.balls[HALF_COUNT, 0] > 0  # the bearing's own table untouched
+    for _ in range(5):
+        q = planar_q(rng)
+        for a, b in zip(evaluate(off, q, 28), evaluate(full_loop(balls), q, 28)):
+            assert np.array_equal(a, b)
+        weaker = evaluate(balls._replace(balls=odd), q, 28)
+        every = evaluate(full_loop(balls._replace(balls=odd)), q, 28)
+        for a, b in zip(weaker, every):
+            assert np.array_equal(a, b)
