@@ -195,6 +195,12 @@ class Row:
                                                     units="mm"))
         self._check_clearance_and_preload()
 
+    # -- what every element kind's row tells (rollers.RollerRow answers the same) --------------------------
+    #: The element kind (a roller row's ``element`` key says its own).
+    element = "ball"
+    #: Its elements, in words (for reports and pictures).
+    element_word = "balls"
+
     @property
     def n_elements(self) -> int:
         return self.n_balls
@@ -203,6 +209,25 @@ class Row:
     def deflection_scale(self) -> float:
         """A length that bounds the solver's early Newton steps, mm: A0."""
         return self.groove_center_distance
+
+    def describe_line(self) -> str:
+        """The row in one line, with units (reports and HDF5 provenance)."""
+        return (f"z={self.axial_offset:g} mm, s={self.contact_direction:+d}, Z={self.n_balls}, "
+                f"a0={self.contact_angle:g} deg, A0={self.groove_center_distance:g} mm, R={self.pitch_radius:g} mm, "
+                f"Kn={self.hertz_constant:g} N/mm^{self.exponent:g}, rL={self.radial_clearance:g} mm, "
+                f"d0={self.axial_preload:g} mm, psi0={self.first_ball_angle:g} deg")
+
+    def report(self) -> dict:
+        """The row's derived parameters, JSON-ready (lengths mm, angles deg and rad, Kn N/mm^n)."""
+        af = self.free_contact_angle
+        return {"axial_offset": self.axial_offset, "contact_direction": self.contact_direction,
+                "n_balls": self.n_balls, "hertz_constant": self.hertz_constant, "exponent": self.exponent,
+                "groove_center_distance": self.groove_center_distance, "pitch_radius": self.pitch_radius,
+                "radial_clearance": self.radial_clearance, "contact_angle_deg": self.contact_angle,
+                "free_contact_angle": af, "free_contact_angle_deg": math.degrees(af),
+                "axial_preload": self.axial_preload, "rest_deflection": self.rest_deflection,
+                "rest_contact_angle_deg": math.degrees(self.rest_contact_angle),
+                "deflection_limit": self.validity_deflection}
 
     @property
     def validity_deflection(self) -> float:
@@ -594,18 +619,7 @@ class Bearing:
         """One line per row, for reports and HDF5 provenance."""
         lines = [f"{self.name or 'bearing'} ({self.arrangement}, {self.n_rows} rows)"]
         for i, r in enumerate(self.rows):
-            if isinstance(r, RollerRow):
-                lines.append(f"  row {i}: {r.element}, z={r.axial_offset:g} mm, s={r.contact_direction:+d}, "
-                             f"Z={r.n_rollers}, a={r.contact_angle:g} deg, l={r.roller_effective_length:g} mm, "
-                             f"R={r.pitch_radius:g} mm, K={r.hertz_constant:g} N/mm^(10/9), {r.slices} slices, "
-                             f"crown {r.crown}, rL={r.radial_clearance:g} mm, d0={r.axial_preload:g} mm")
-                continue
-            lines.append(
-                f"  row {i}: z={r.axial_offset:g} mm, s={r.contact_direction:+d}, Z={r.n_balls}, "
-                f"a0={r.contact_angle:g} deg, A0={r.groove_center_distance:g} mm, R={r.pitch_radius:g} mm, "
-                f"Kn={r.hertz_constant:g} N/mm^{r.exponent:g}, rL={r.radial_clearance:g} mm, "
-                f"d0={r.axial_preload:g} mm, psi0={r.first_ball_angle:g} deg"
-            )
+            lines.append(f"  row {i}: {r.describe_line()}")
         return "\n".join(lines)
 
     def to_dict(self) -> dict:

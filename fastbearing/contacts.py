@@ -154,7 +154,7 @@ def roller_contacts(bearing: Bearing, q) -> RollerContacts:
 def rollers_from_slices(bearing: Bearing, totals, per_row) -> RollerContacts:
     """:func:`roller_contacts` from the output of :func:`slice_loads` (no further kernel evaluation)."""
     rows, numbers, azimuth, peak, where, widths = [], [], [], [], [], []
-    g = bearing.geometry if hasattr(bearing.geometry, "roller_diameter") else None
+    g = bearing.geometry if bearing.geometry is not None and bearing.geometry.element != "ball" else None
     for (i, r), loads in zip(bearing.roller_rows, per_row):
         x = r.slice_positions
         for j in range(r.n_rollers):
@@ -214,7 +214,7 @@ def ball_contacts(bearing: Bearing, q, speed=0.0) -> BallContacts:
                             np.full(len(Q) - nb, np.nan)])
     base = dict(row=row, ball=ball, azimuth=azimuth, deflection=delta, load=Q, contact_angle=alpha)
     geometry = getattr(bearing, "geometry", None)
-    if geometry is None or not hasattr(geometry, "contacts"):  # no ball geometry (a roller geometry has none)
+    if geometry is None or geometry.element != "ball":  # no ball geometry: no race contacts to report
         return BallContacts(**base)
     out = {k: np.zeros(len(Q)) for k in ("inner_max_pressure", "inner_semi_major", "inner_semi_minor",
                                           "outer_max_pressure", "outer_semi_major", "outer_semi_minor")}

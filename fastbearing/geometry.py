@@ -392,6 +392,8 @@ class Geometry:
     ball_density: float | None = None
     race_control: str = "outer"
     rotating: str = "inner"
+    #: The element kind of the rows it makes (a roller geometry's ``element`` says its own).
+    element = "ball"
 
     def __post_init__(self):
         v = validate

@@ -386,7 +386,7 @@ def ratings(bearing) -> BearingRatings:
         raise ValueError("life needs the bearing's geometry ([bearing.geometry]: ball_diameter, pitch_diameter, "
                          "groove ratios), from which the load ratings and contact ratings follow; a bearing given "
                          "by model parameters (Kn, A0, R) alone has no rating")
-    if hasattr(g, "roller_diameter"):
+    if g.element != "ball":
         return _roller_ratings(bearing, g)
     if bearing.roller_rows:
         raise ValueError("life needs one geometry for the whole bearing; ball and roller rows mixed in one "

@@ -705,10 +705,11 @@ def plot_load_zone(bearing, q, *, title: str | None = None, out=None, overwrite:
             for a, v in zip(p, load):
                 ax.plot([a, a], [0, v], color="C0", linewidth=1.2)
             loaded = load > 0
+            one = row.element_word[:-1]  # ball, roller
             handles = ax.plot(p[loaded], load[loaded], "o", color="C0", markersize=5,
-                              label="loaded ball (radius: its load Q)")
+                              label=f"loaded {one} (radius: its load Q)")
             handles += ax.plot(p, np.full(p.size, top), "o", color="0.6", markersize=3, clip_on=False,
-                               label="ball positions: every ball of the row, loaded or not (on the rim)")
+                               label=f"{one} positions: every {one} of the row, loaded or not (on the rim)")
             ax.set_ylim(0, top)
             ax.set_xticks(np.arange(8) * np.pi / 4)
             ax.set_xticklabels(["0", r"$\pi/4$", r"$\pi/2$", r"$3\pi/4$", r"$\pi$", r"$5\pi/4$", r"$3\pi/2$",
@@ -716,13 +717,13 @@ def plot_load_zone(bearing, q, *, title: str | None = None, out=None, overwrite:
             ax.yaxis.set_major_locator(MaxNLocator(4))
             ax.set_rlabel_position(22.5)
             ax.tick_params(axis="y", labelsize=8)
-            ax.set_xlabel(axis_label(r"azimuth $\psi$ from x toward y", "rad") + ";  radius: ball load Q (N)",
+            ax.set_xlabel(axis_label(r"azimuth $\psi$ from x toward y", "rad") + f";  radius: {one} load Q (N)",
                           fontsize=8)
             a_loaded = alpha[sel][loaded]
             angles = (f"\ncontact angle {np.degrees(a_loaded.min()):.1f} to {np.degrees(a_loaded.max()):.1f} deg"
                       if loaded.any() else "")
             ax.set_title(f"row {r}: z = {row.axial_offset:g} mm, contact direction {row.contact_direction:+d}\n"
-                         f"{int(loaded.sum())} of {row.n_elements} {'balls' if hasattr(row, 'n_balls') else 'rollers'}"
+                         f"{int(loaded.sum())} of {row.n_elements} {row.element_word}"
                          f" loaded, max Q = {load.max():.4g} N"
                          + angles, fontsize=9)
         _figure_legend(fig, handles, ncol=2)

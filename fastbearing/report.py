@@ -10,7 +10,6 @@ import math
 
 from .bearing import check_speed_model, speed_limit
 from .geometry import load_centre_spread
-from .rollers import RollerRow
 
 
 def bearing_report(bearing) -> dict:
@@ -18,32 +17,14 @@ def bearing_report(bearing) -> dict:
     row's (lengths mm, angles deg and rad, Kn N/mm^n), the load-centre spread of a double row (mm), the catalogue
     geometry's and both race contacts' where the bearing has one, and its speed limit (rpm) where it can run
     at speed."""
-    rows = []
-    for r in bearing.rows:
-        if isinstance(r, RollerRow):
-            rows.append({"element": r.element, "axial_offset": r.axial_offset, "contact_direction": r.contact_direction,
-                         "n_rollers": r.n_rollers, "hertz_constant": r.hertz_constant, "pitch_radius": r.pitch_radius,
-                         "roller_effective_length": r.roller_effective_length, "contact_angle_deg": r.contact_angle,
-                         "slices": r.slices, "slice_width": r.roller_effective_length / r.slices, "crown": r.crown,
-                         "crown_drop_at_ends": float(r.crown_drop(r.slice_positions[[0]])[0]),
-                         "radial_clearance": r.radial_clearance, "axial_preload": r.axial_preload})
-            continue
-        af = r.free_contact_angle
-        rows.append({"axial_offset": r.axial_offset, "contact_direction": r.contact_direction, "n_balls": r.n_balls,
-                     "hertz_constant": r.hertz_constant, "exponent": r.exponent,
-                     "groove_center_distance": r.groove_center_distance, "pitch_radius": r.pitch_radius,
-                     "radial_clearance": r.radial_clearance, "contact_angle_deg": r.contact_angle,
-                     "free_contact_angle": af, "free_contact_angle_deg": math.degrees(af),
-                     "axial_preload": r.axial_preload, "rest_deflection": r.rest_deflection,
-                     "rest_contact_angle_deg": math.degrees(r.rest_contact_angle),
-                     "deflection_limit": r.validity_deflection})
+    rows = [r.report() for r in bearing.rows]  # each element kind reports its own row
     out = {"name": bearing.name, "arrangement": bearing.arrangement, "rows": rows}
     if bearing.arrangement in ("DB", "DF", "DT") and not bearing.roller_rows:
         r = bearing.rows[1]
         out["load_centre_spread"] = load_centre_spread(bearing.arrangement, r.axial_offset, r.pitch_radius,
                                                        math.radians(r.contact_angle))
     g = bearing.geometry
-    if g is not None and hasattr(g, "roller_diameter"):
+    if g is not None and g.element != "ball":
         out["roller_geometry"] = {
             "element": g.element, "n_rollers": g.n_rollers, "roller_diameter": g.roller_diameter,
             "roller_effective_length": g.roller_effective_length, "pitch_diameter": g.pitch_diameter,

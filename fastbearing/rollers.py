@@ -174,9 +174,30 @@ class RollerRow:
         raise validate.FieldError("axial_preload", f"must be <= {bound:.6g} mm: an axial preload may press each "
                                   f"roller by at most {PRELOAD_APPROACH_LIMIT:g} l = {limit:.6g} mm", d0)
 
+    # -- what every element kind's row tells (bearing.Row answers the same) -----------------------------------
+    #: Its elements, in words (for reports and pictures).
+    element_word = "rollers"
+
     @property
     def n_elements(self) -> int:
         return self.n_rollers
+
+    def describe_line(self) -> str:
+        """The row in one line, with units (reports and HDF5 provenance)."""
+        return (f"{self.element}, z={self.axial_offset:g} mm, s={self.contact_direction:+d}, Z={self.n_rollers}, "
+                f"a={self.contact_angle:g} deg, l={self.roller_effective_length:g} mm, R={self.pitch_radius:g} mm, "
+                f"K={self.hertz_constant:g} N/mm^(10/9), {self.slices} slices, crown {self.crown}, "
+                f"rL={self.radial_clearance:g} mm, d0={self.axial_preload:g} mm")
+
+    def report(self) -> dict:
+        """The row's derived parameters, JSON-ready (lengths mm, angles deg, K N/mm^(10/9))."""
+        return {"element": self.element, "axial_offset": self.axial_offset,
+                "contact_direction": self.contact_direction, "n_rollers": self.n_rollers,
+                "hertz_constant": self.hertz_constant, "pitch_radius": self.pitch_radius,
+                "roller_effective_length": self.roller_effective_length, "contact_angle_deg": self.contact_angle,
+                "slices": self.slices, "slice_width": self.roller_effective_length / self.slices,
+                "crown": self.crown, "crown_drop_at_ends": float(self.crown_drop(self.slice_positions[[0]])[0]),
+                "radial_clearance": self.radial_clearance, "axial_preload": self.axial_preload}
 
     @property
     def deflection_scale(self) -> float:

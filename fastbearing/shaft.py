@@ -81,6 +81,8 @@ class _RowsAtSpeed:
     (Bearing.speed_table reads them row by row)."""
 
     columns: tuple  # per row of the shaft's bearing: its speed columns (None for a roller row)
+    #: Not one element kind's catalogue geometry: the rows keep their own bearings' (no race contacts here).
+    element = "mixed"
 
     def row_speed_columns(self, row: int):
         return self.columns[row]

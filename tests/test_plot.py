@@ -298,3 +298,17 @@ def test_load_zone_legend_names_the_grey_dots():
     for ax in fig.axes:  # the grey dots: one per ball of the row, on the rim
         dots = [ln for ln in ax.lines if ln.get_color() == "0.6"]
         assert len(dots) == 1 and len(dots[0].get_xdata()) == 14
+
+
+def test_the_load_zone_of_a_roller_bearing_speaks_of_rollers():
+    """Each row says its own elements' word (the element kind's ``element_word``): the picture of a roller
+    bearing once called its rollers balls (issue 39)."""
+    from pathlib import Path
+
+    bearing = fb.load_bearing(Path(__file__).parents[1] / "data" / "bearings" / "NU205.toml")
+    q = fb.solve(bearing, [3000.0, 0.0, 0.0, 0.0, 0.0]).q
+    fig = plot.plot_load_zone(bearing, q, size=(600, 400))
+    texts = [t.get_text() for t in fig.legends[0].get_texts()]
+    texts += [ax.get_title() for ax in fig.axes] + [ax.get_xlabel() for ax in fig.axes]
+    assert all("ball" not in t for t in texts), texts
+    assert any("loaded roller" in t for t in texts) and any("rollers loaded" in t for t in texts)
