@@ -36,7 +36,8 @@ columns so that F_c comes out in N and M_g in N*mm.
 import math
 
 import numpy as np
-from numba import njit
+from numba import njit, types
+from numba.extending import overload
 
 from .config import CACHE, ERROR_MODEL, KERNEL_FASTMATH, REFCOUNT
 from .deflection import deflection
@@ -82,6 +83,50 @@ def warm_rows(n_balls):
     """Rows of a ball set's warm scratch for ``n_balls`` balls: the N_WARM rows of warm starts and room for
     one chunk of summaries after them."""
     return N_WARM + (N_SUMMARY * CHUNK + n_balls - 1) // max(n_balls, 1)
+
+
+def warm_scratch(speed_table):
+    """A fresh warm scratch for the balls of ``speed_table`` inside njit code (None without a speed table)."""
+
+
+@overload(warm_scratch)
+def _warm_scratch(speed_table):
+    if isinstance(speed_table, types.NoneType):
+        return lambda speed_table: None
+    return lambda speed_table: np.zeros((warm_rows(speed_table.shape[1]), speed_table.shape[1]))
+
+
+def forget_warm(warm):
+    """Drop every ball's warm start (a case that starts cold starts its balls cold too, so that its result
+    depends on its own run alone, never on which block or thread ran it before); None: nothing to drop."""
+
+
+@overload(forget_warm)
+def _forget_warm(warm):
+    if isinstance(warm, types.NoneType):
+        return lambda warm: None
+
+    def forget(warm):
+        for j in range(warm.shape[1]):
+            warm[WARM_VALID, j] = 0.0
+    return forget
+
+
+def take_linearised(warm, allowed):
+    """Tell the balls at speed (warm scratch ``warm``; None without speed: nothing) whether the solve under
+    way takes linearised balls: the solver's tests see BALL_LINEARISED and evaluate again before they
+    converge."""
+
+
+@overload(take_linearised)
+def _take_linearised(warm, allowed):
+    if isinstance(warm, types.NoneType):
+        return lambda warm, allowed: None
+
+    def take(warm, allowed):
+        if warm.shape[1] > 0:
+            warm[WARM_LINEARISE, 0] = 1.0 if allowed else 0.0
+    return take
 
 
 def new_warm(n_balls):

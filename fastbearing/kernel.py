@@ -24,7 +24,7 @@ from .schema import (A0, AXIAL_OFFSET, BALL_OF, COS_PSI, DEFLECTION_LIMIT, DIREC
                      S_SIN_PSI, S_STIFFNESS, UR0, UZ0, WEIGHT)
 from .config import CACHE, ERROR_MODEL, KERNEL_FASTMATH, REFCOUNT
 from .deflection import smoothed_deflection
-from .high_speed import spinning_balls, standing_still
+from .high_speed import forget_warm, spinning_balls, standing_still, take_linearised, warm_scratch  # noqa: F401
 from .roots import ninth_root
 from .status import BALL_LINEARISED, BALL_UNSETTLED, BEYOND_VALIDITY, CONTACT_REVERSED
 from .trig import atan2

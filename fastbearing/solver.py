@@ -37,8 +37,8 @@ from numba import njit
 from .config import (CACHE, DIVERGED_REACH, ERROR_MODEL, FASTMATH, NEWTON, RECORD_AHEAD, REFCOUNT,
                      SEARCH_CURVATURE, SEARCH_TRIALS, SMOOTHING_FIRST, SMOOTHING_LAST, SMOOTHING_RATIO, SMOOTHING_RTOL, STAGNATION_ITERATIONS,
                      STILL_START_RTOL)
-from .schema import A0, AXIAL_OFFSET, EXPONENT, WARM_LINEARISE, WARM_VALID, ElementSet
-from .kernel import SETTLE_PASSES, ball_loop, settled_loop, slice_reach
+from .schema import A0, AXIAL_OFFSET, EXPONENT, ElementSet
+from .kernel import SETTLE_PASSES, ball_loop, forget_warm, settled_loop, slice_reach, take_linearised
 from .linalg import ldl_solve, lu_solve, stiffness_solve
 from .status import (BALL_EQUILIBRIUM, BALL_LINEARISED, BALL_UNSETTLED, CONVERGED, ITERATION_LIMIT, NONFINITE_INPUT,
                      NONFINITE_RESULT, PRECISION_LIMIT, SINGULAR, STALLED, UNLOADED, WARNING_MASK)
@@ -532,24 +532,6 @@ def _all_finite(q, f, K):
     return ok
 
 
-@njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
-def _take_linearised(spin, allowed):
-    """Tell the balls at speed (warm-start scratch ``spin``, None without speed) whether this solve takes
-    linearised balls: the solver's tests see BALL_LINEARISED and evaluate again before they converge."""
-    if spin is not None:  # pruned while typing for a ball set without speed
-        if spin.shape[1] > 0:
-            spin[WARM_LINEARISE, 0] = 1.0 if allowed else 0.0
-
-
-@njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
-def _forget_balls(spin):
-    """Drop the balls' warm starts (scratch ``spin``, None without speed): the next evaluation settles every
-    ball from its cold guess."""
-    if spin is not None:  # pruned while typing for a ball set without speed
-        for j in range(spin.shape[1]):
-            spin[WARM_VALID, j] = 0.0
-
-
 @njit(cache=CACHE, fastmath=FASTMATH, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
 def solve_case(f_target, q, f, K, balls, settings, warm, work, ball_load, contact_angle):
     """Find q with f(q) = f_target; fill q (5), f (5) and Kb (5x5) in place.
@@ -620,7 +602,7 @@ def solve_case(f_target, q, f, K, balls, settings, warm, work, ball_load, contac
     status = STALLED
     recorded = False
     spin = balls.warm
-    _take_linearised(spin, True)  # cleared again on every return below
+    take_linearised(spin, True)  # cleared again on every return below
     if not warm and balls.omega != 0.0 and scale > 0.0:
         # spinning and no start given: start from the balls standing still, roughly solved (a continuation
         # in speed from 0); the spinning solve's own cold start stays the second attempt
@@ -642,7 +624,7 @@ def solve_case(f_target, q, f, K, balls, settings, warm, work, ball_load, contac
             for i in range(5):
                 q[i] = 0.0
             settled_loop(q, balls, f, K, ball_load, contact_angle)
-            _take_linearised(spin, False)
+            take_linearised(spin, False)
             return SolveOutcome(UNLOADED, 0, 0.0, evals + 1)
         status, it, rmax, ev, total, warn, recorded = _descend(f_target, q, f, K, total, n_loaded, warn, balls,
                                                                 settings, tol, arm, reach, D, work, ball_load,
@@ -654,7 +636,7 @@ def solve_case(f_target, q, f, K, balls, settings, warm, work, ball_load, contac
     if status != CONVERGED and balls.omega != 0.0 and scale > 0.0:
         # spinning: from the balls standing still, solved to the tolerance (the rough start above can leave a
         # light load far off along a soft direction): at low speeds the answer is next to it
-        _forget_balls(spin)  # the failed attempts' ball centres are no start
+        forget_warm(spin)  # the failed attempts' ball centres are no start
         ev, it, still = _still_start(f_target, q, f, K, balls, settings, tol, arm, reach, D, work, ball_load,
                                      contact_angle)
         evals += ev
@@ -681,7 +663,7 @@ def solve_case(f_target, q, f, K, balls, settings, warm, work, ball_load, contac
             total, n_loaded, warn = settled_loop(q, balls, f, K, ball_load, contact_angle)
         evals += 1
         rmax, r2 = _scaled_residual(f, f_target, D, work[_G])
-    _take_linearised(spin, False)
+    take_linearised(spin, False)
     if not _all_finite(q, f, K):
         return SolveOutcome(NONFINITE_RESULT, iterations, math.nan, evals)
     if status == CONVERGED and floor > tol and scale > 0.0:

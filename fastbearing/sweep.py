@@ -12,11 +12,10 @@ from numba import njit, prange, types
 from numba.extending import intrinsic, overload
 
 from .config import CACHE, ERROR_MODEL, REFCOUNT
-from .high_speed import warm_rows
-from .kernel import ball_loop, slice_count
+from .kernel import ball_loop, forget_warm, slice_count, warm_scratch
 from .linalg import stiffness_solve
 from .roots import cube_root
-from .schema import (LIFE_CE, LIFE_CI, LIFE_FIRST, LIFE_INNER, LIFE_SLICES, LIFE_X0, LIFE_Y0, LIFE_Z, WARM_VALID,
+from .schema import (LIFE_CE, LIFE_CI, LIFE_FIRST, LIFE_INNER, LIFE_SLICES, LIFE_X0, LIFE_Y0, LIFE_Z,
                      ElementSet)
 from .solver import WORK_ROWS, solve_case, with_warnings
 from .status import BALL_UNSETTLED, CONVERGED, NONFINITE_RESULT, OUTCOME_MASK, UNLOADED
@@ -40,34 +39,6 @@ def _load_flag(typingctx, flag):
 def stop_requested(stop):
     """True once ``stop[0]`` is non-zero (set by the runner's Ctrl-C handler)."""
     return _load_flag(stop) != 0
-
-
-def warm_scratch(speed_table):
-    """A block's scratch for the high-speed balls' warm starts (high_speed.warm_rows(n_balls), n_balls), or None for a
-    quasi-static ball set (``speed_table`` None). Chosen while typing."""
-
-
-@overload(warm_scratch)
-def _warm_scratch(speed_table):
-    if isinstance(speed_table, types.NoneType):
-        return lambda speed_table: None
-    return lambda speed_table: np.zeros((warm_rows(speed_table.shape[1]), speed_table.shape[1]))
-
-
-def forget_warm(warm):
-    """Drop every ball's warm start (a case that starts cold starts its balls cold too, so that its result
-    depends on its own run alone, never on which block or thread ran it before)."""
-
-
-@overload(forget_warm)
-def _forget_warm(warm):
-    if isinstance(warm, types.NoneType):
-        return lambda warm: None
-
-    def forget(warm):
-        for j in range(warm.shape[1]):
-            warm[WARM_VALID, j] = 0.0
-    return forget
 
 
 def at_speed(balls, speeds, i, warm, fresh):
