@@ -50,7 +50,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from . import validate
+from . import schema, validate
 from .bearing import PRELOAD_DEFLECTION_LIMIT, Bearing, _check_finite, free_contact_angle
 
 ELLIPTICITY_METHODS = ("exact", "hamrock-brewe")
@@ -309,6 +309,11 @@ def series_constant(inner: float, outer: float) -> float:
     return (inner ** (-2.0 / 3.0) + outer ** (-2.0 / 3.0)) ** -1.5
 
 
+#: The race-control factors (lambda_i, lambda_o) that share the gyroscopic moment's friction between the
+#: races (Harris): outer-raceway control puts it all on the outer race, inner control shares it, none drops it.
+RACE_CONTROL_FACTORS = {"outer": (0.0, 2.0), "inner": (1.0, 1.0), "none": (0.0, 0.0)}
+
+
 # -- a bearing's geometry ------------------------------------------------------------
 @dataclass(frozen=True)
 class Geometry:
@@ -516,23 +521,33 @@ class Geometry:
         """rho of the balls in kg/m^3: ``ball_density``, else the ball material's."""
         return self.ball_density if self.ball_density is not None else self.ball_material.density
 
-    def speed_columns(self, contact_angle: float) -> tuple:
+    def speed_columns(self, contact_angle: float) -> np.ndarray:
         """The high-speed constants of a ball of this geometry in a row of unloaded contact angle
-        ``contact_angle`` (degrees), in the order of fastbearing.high_speed's table rows: (f_i - 1/2) D,
-        (f_o - 1/2) D (mm), K_i, K_o (N/mm^1.5, the race contacts at a0), m d_m/2 (kg*m: F_c in N for
-        omega in rad/s), J = m D^2/10 (N*mm*s^2: M_g in N*mm), gamma' = D/d_m, lambda_i, lambda_o, inner
-        control (0/1), outer ring rotates (0/1), f_i D (mm), D (mm), the outer contact's share of the
-        quasi-static deflection, cos a0."""
+        ``contact_angle`` (degrees): one column of the speed table, its rows named in schema.py ((f_i - 1/2) D,
+        (f_o - 1/2) D in mm; K_i, K_o in N/mm^1.5, the race contacts at a0; m d_m/2 in kg*m, so that F_c is
+        in N for omega in rad/s; J = m D^2/10 in N*mm*s^2, so that M_g is in N*mm; gamma' = D/d_m; the
+        race-control factors; inner control and the outer ring turning, 0/1; f_i D and D in mm; the outer
+        contact's share of the quasi-static deflection; cos a0)."""
         D, dm = self.ball_diameter, self.pitch_diameter
         inner, outer = self.contacts(math.radians(contact_angle))
         Ki, Ko = inner.constant, outer.constant
         mass = self.density * math.pi * (D * 1e-3) ** 3 / 6.0  # kg
         ratio = (Ki / Ko) ** (2.0 / 3.0)  # delta_o / delta_i with Q_i = Q_o
-        lambdas = {"outer": (0.0, 2.0), "inner": (1.0, 1.0), "none": (0.0, 0.0)}[self.race_control]
-        return ((self.inner_groove_ratio - 0.5) * D, (self.outer_groove_ratio - 0.5) * D, Ki, Ko,
-                mass * 0.5 * dm * 1e-3, mass * D * D / 10.0 * 1e-3, D / dm, *lambdas,
-                float(self.race_control == "inner"), float(self.rotating == "outer"), self.inner_groove_ratio * D,
-                D, ratio / (1.0 + ratio), math.cos(math.radians(contact_angle)))
+        c = np.empty(schema.N_SPEED_COLUMNS)
+        c[schema.INNER_RADIUS] = (self.inner_groove_ratio - 0.5) * D
+        c[schema.OUTER_RADIUS] = (self.outer_groove_ratio - 0.5) * D
+        c[schema.K_INNER], c[schema.K_OUTER] = Ki, Ko
+        c[schema.MASS_RADIUS] = mass * 0.5 * dm * 1e-3
+        c[schema.INERTIA] = mass * D * D / 10.0 * 1e-3
+        c[schema.GAMMA] = D / dm
+        c[schema.LAMBDA_INNER], c[schema.LAMBDA_OUTER] = RACE_CONTROL_FACTORS[self.race_control]
+        c[schema.INNER_CONTROL] = float(self.race_control == "inner")
+        c[schema.OUTER_ROTATES] = float(self.rotating == "outer")
+        c[schema.INNER_ARM] = self.inner_groove_ratio * D
+        c[schema.DIAMETER] = D
+        c[schema.OUTER_SHARE] = ratio / (1.0 + ratio)
+        c[schema.COS_NOMINAL] = math.cos(math.radians(contact_angle))
+        return c
 
     def row_keywords(self) -> dict:
         """The :class:`fastbearing.Row` keywords this geometry fixes (angles in degrees, as Row takes them)."""
