@@ -10,7 +10,7 @@ import pytest
 sys.path.insert(0, str(Path(__file__).parent))
 
 import fastbearing as fb  # noqa: E402
-from fastbearing.kernel import ball_loop  # noqa: E402
+from fastbearing.engine.kernel import ball_loop  # noqa: E402
 from numba import njit  # noqa: E402
 
 # child processes (the timed whole-process runs) import the same fastbearing as this process, and so share

@@ -12,7 +12,7 @@ import numpy as np
 from numba import njit
 
 import fastbearing as fb
-from fastbearing.kernel import ball_loop
+from fastbearing.engine.kernel import ball_loop
 
 VARIANTS = ("f and Kb", "f, Kb and the record", "f alone", "f and the record")
 

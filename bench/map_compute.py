@@ -22,8 +22,8 @@ EXAMPLE = Path(__file__).resolve().parents[1] / "data" / "examples" / "gunduz201
 
 def main(n=198_000, threads=1, rounds=5, fy=0):
     numba.set_num_threads(threads)
-    loadmap = importlib.import_module("fastbearing.loadmap")
-    jobs = importlib.import_module("fastbearing.jobs")
+    loadmap = importlib.import_module("fastbearing.jobs.loadmap")
+    jobs = importlib.import_module("fastbearing.jobs.runner")
     cfg = loadmap.read_config(EXAMPLE)
     job = loadmap.job(cfg)
     inputs = cfg.cases.inputs(0, n)

@@ -23,7 +23,7 @@ from test_high_speed import _arrangements, jones_harris_load  # noqa: E402
 
 import fastbearing as fb  # noqa: E402
 from fastbearing import status as st  # noqa: E402
-from fastbearing.bearing import speed_limit  # noqa: E402
+from fastbearing.model.bearing import speed_limit  # noqa: E402
 
 DATA = Path(__file__).resolve().parents[1] / "data" / "bearings"
 

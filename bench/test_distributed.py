@@ -15,7 +15,7 @@ _times = {}
 
 @pytest.fixture(scope="module")
 def client():
-    from fastbearing.distributed import client_for
+    from fastbearing.jobs.distributed import client_for
 
     client, cluster = client_for("local:2")
     yield client

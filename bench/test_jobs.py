@@ -23,7 +23,7 @@ from conftest import PEAK_RSS
 
 CHILD = PEAK_RSS + """
 import json, sys
-from fastbearing.loadmap import loadmap
+from fastbearing.jobs.loadmap import loadmap
 loadmap(json.loads(sys.argv[1]), sys.argv[2], progress=False)
 print(own_peak_kb())
 """

@@ -114,9 +114,9 @@ def test_life_block_overhead(benchmark):
 
     import numpy as np
 
-    from fastbearing import storage
+    from fastbearing.jobs import storage
 
-    loadmap = importlib.import_module("fastbearing.loadmap")
+    loadmap = importlib.import_module("fastbearing.jobs.loadmap")
     doc = tomllib.loads(EXAMPLE.read_text())
     bearing = tomllib.loads((EXAMPLE.parents[1] / "bearings" / "3306.toml").read_text())["bearing"]
     setups = {}

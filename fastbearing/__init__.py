@@ -11,8 +11,6 @@ The public names below are imported on first use (PEP 562), so that
 or h5py before a command needs them.
 """
 
-import sys
-import types
 from importlib import import_module
 from importlib.metadata import PackageNotFoundError, version
 
@@ -22,15 +20,15 @@ from . import status
 _PUBLIC = {
     **dict.fromkeys(("SolveManyResult", "SolveResult", "ball_loads", "num_threads", "solve", "solve_many",
                      "stiffness", "stiffness_many"), "api"),
-    **dict.fromkeys(("ARRANGEMENTS", "Bearing", "Row", "preset_names"), "bearing"),
-    **dict.fromkeys(("bearing_from_table", "load_bearing"), "bearing_file"),
-    **dict.fromkeys(("BallContacts", "ball_contacts"), "contacts"),
+    **dict.fromkeys(("ARRANGEMENTS", "Bearing", "Row", "preset_names"), "model.bearing"),
+    **dict.fromkeys(("bearing_from_table", "load_bearing"), "model.bearing_file"),
+    **dict.fromkeys(("BallContacts", "ball_contacts"), "analysis.contacts"),
     **dict.fromkeys(("MATERIALS", "SILICON_NITRIDE", "STEEL", "Geometry", "HertzContact", "Material",
-                     "geometry_from_table", "hertz_contact", "race_contacts"), "geometry"),
-    **dict.fromkeys(("LifeResult", "rating_life"), "life"),
-    **dict.fromkeys(("loadmap", "open_dataset"), "loadmap"),
-    **dict.fromkeys(("bearing_report", "bearing_report_text"), "report"),
-    "passage": "passage",
+                     "geometry_from_table", "hertz_contact", "race_contacts"), "model.geometry"),
+    **dict.fromkeys(("LifeResult", "rating_life"), "analysis.life"),
+    **dict.fromkeys(("loadmap", "open_dataset"), "jobs.loadmap"),
+    **dict.fromkeys(("bearing_report", "bearing_report_text"), "report.bearing_report"),
+    "passage": "jobs.passage",
 }
 
 try:
@@ -52,17 +50,3 @@ def __getattr__(name):
 
 def __dir__():
     return sorted(set(globals()) | set(_PUBLIC))
-
-
-class _Package(types.ModuleType):
-    """``fastbearing.loadmap`` and ``fastbearing.passage`` are functions named like their modules: importing
-    the module must not replace the function (the import system sets the package's attribute to the
-    submodule), so the function is looked up on demand instead."""
-
-    def __setattr__(self, name, value):
-        if isinstance(value, types.ModuleType) and name in _PUBLIC and _PUBLIC[name] == name:
-            return
-        super().__setattr__(name, value)
-
-
-sys.modules[__name__].__class__ = _Package

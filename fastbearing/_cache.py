@@ -11,15 +11,15 @@ user-wide fallback when that is read-only, or ``NUMBA_CACHE_DIR`` when set.
 import functools
 import hashlib
 import re
-from pathlib import Path
+from pathlib import Path, PurePosixPath
 
 _PACKAGE = Path(__file__).parent
 _STAMP_NAME = "fastbearing-numba-cache.stamp"
 #: A module holds kernels when it compiles any: njit, numba's overload or intrinsic (plain substrings: this
 #: runs before every command's first kernel, and a regular expression over every source cost 15 ms).
 _KERNEL_CODE = ("@njit", "njit(", "@overload", "@intrinsic", "@generated_jit")
-_FROM_MODULE = re.compile(r"^\s*from \.(\w+)", re.M)
-_FROM_PACKAGE = re.compile(r"^\s*from \. import \(?([\w, ]+)", re.M)
+#: ``from .x import``, ``from ..pkg.x import``, ``from . import x, y``: (dots, module path, imported names).
+_RELATIVE_IMPORT = re.compile(r"^\s*from (\.+)([\w.]*) import \(?([\w, ]+)", re.M)
 
 
 @functools.lru_cache(maxsize=1)
@@ -27,24 +27,33 @@ def kernel_modules() -> tuple[str, ...]:
     """The package's files whose change must drop the cached machine code, found from the sources (no hand
     list): every module with kernel code, and every package module those import from (constants such as
     schema.py's table rows are compiled into the kernels), transitively."""
-    sources = {path.name: path.read_text() for path in _PACKAGE.glob("*.py") if path.name != "_cache.py"}
+    sources = {path.relative_to(_PACKAGE).as_posix(): path.read_text() for path in _PACKAGE.rglob("*.py")
+               if path.name != "_cache.py"}
     found = {name for name, text in sources.items() if any(mark in text for mark in _KERNEL_CODE)}
     todo = list(found)
     while todo:
-        for imported in _package_imports(sources[todo.pop()]):
+        name = todo.pop()
+        for imported in _package_imports(name, sources[name]):
             if imported in sources and imported not in found:
                 found.add(imported)
                 todo.append(imported)
     return tuple(sorted(found))
 
 
-def _package_imports(text: str) -> set[str]:
-    """File names of the package modules a source imports (``from .x import``, ``from . import x``); a
+def _package_imports(name: str, text: str) -> set[str]:
+    """Package paths (posix, below the package) of the modules the source ``name`` imports relatively; a
     regular expression, not a parse: this runs before every command's first kernel."""
-    names = {m + ".py" for m in _FROM_MODULE.findall(text)}
-    for group in _FROM_PACKAGE.findall(text):
-        names.update(n.strip().split(" ")[0] + ".py" for n in group.split(",") if n.strip())
-    return names
+    folder = PurePosixPath(name).parent
+    out = set()
+    for dots, module, names in _RELATIVE_IMPORT.findall(text):
+        base = folder
+        for _ in range(len(dots) - 1):
+            base = base.parent
+        if module:
+            out.add((base / (module.replace(".", "/") + ".py")).as_posix())
+        else:
+            out.update((base / (n.strip().split(" ")[0] + ".py")).as_posix() for n in names.split(",") if n.strip())
+    return {path[2:] if path.startswith("./") else path for path in out}
 
 
 def source_hash() -> str:
@@ -66,12 +75,12 @@ def cache_folder() -> Path:
             pass
 
         for locator in caching.CacheImpl._locator_classes:
-            found = locator.from_function(probe, str(_PACKAGE / "kernel.py"))
+            found = locator.from_function(probe, str(_PACKAGE / "engine" / "kernel.py"))
             if found is not None:
                 return Path(found.get_cache_path())
     except Exception:  # a numba without these internals: the default location
         pass
-    return _PACKAGE / "__pycache__"
+    return _PACKAGE / "engine" / "__pycache__"
 
 
 def ensure_fresh() -> None:

@@ -13,13 +13,17 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
-from . import config, status as st, validate
-from .bearing import Bearing, check_speed, check_speed_model
+from . import config
+
+from . import status as st
+
+from . import validate
+from .model.bearing import Bearing, check_speed, check_speed_model
 from .dofs import DISPLACEMENT_NAMES, DISPLACEMENT_UNITS, LOAD_NAMES, LOAD_UNITS  # noqa: F401 (public names)
-from .kernel import ball_loop
+from .engine.kernel import ball_loop
 from .config import METHODS, NEWTON
-from .solver import WORK_ROWS, SolverSettings, solve_case
-from .sweep import solve_sweep, stiffness_sweep
+from .engine.solver import WORK_ROWS, SolverSettings, solve_case
+from .engine.sweep import solve_sweep, stiffness_sweep
 
 
 

@@ -13,13 +13,13 @@ import sys
 
 import numpy as np
 
-from .bearing import ARRANGEMENTS, preset_names
-from .bearing_file import load_bearing, preset_bearing
+from .model.bearing import ARRANGEMENTS, preset_names
+from .model.bearing_file import load_bearing, preset_bearing
 from .config import METHODS
 from .dofs import DISPLACEMENT_NAMES, LOAD_NAMES
-from .export import FORMATS as EXPORT_FORMATS
+from .report.export import FORMATS as EXPORT_FORMATS
 from .files import DiskFull, OutputExists
-from .plot import NORMALISE, PASSAGE_X
+from .report.plot import NORMALISE, PASSAGE_X
 
 EXIT_USAGE = 2
 
@@ -207,7 +207,7 @@ def _add_job_arguments(parser) -> None:
 def _run_job(run, args, **extra) -> int:
     """Run a job function (loadmap, passage) with the shared options; Ctrl-C is exit 130."""
     from .api import check_threads
-    from .jobs import check_in_flight
+    from .jobs.runner import check_in_flight
 
     check_threads(args.threads)
     check_in_flight(args.in_flight, "--in-flight")
@@ -215,7 +215,7 @@ def _run_job(run, args, **extra) -> int:
     if args.dask:
         if args.threads is not None:
             raise ValueError("--threads is for local runs; with --dask each worker task uses one thread")
-        from .distributed import client_for
+        from .jobs.distributed import client_for
 
         client, cluster = client_for(args.dask)
     elif args.in_flight is not None:
@@ -335,7 +335,7 @@ def _optional(run):
 
 @_optional
 def _plot(args) -> int:
-    from . import plot
+    from .report import plot
     from .api import solve
 
     size = _size(args.size) if args.size else None
@@ -365,28 +365,28 @@ def _plot(args) -> int:
 
 @_optional
 def _paper(args) -> int:
-    from .paper import paper
+    from .report.paper import paper
 
     paper(args.out, overwrite=args.overwrite)
     return 0
 
 
 def _passage(args) -> int:
-    from .passage import passage
+    from .jobs.passage import passage
 
     return _run_job(passage, args, csv_files=args.csv)
 
 
 def _shaft(args) -> int:
-    from .shaft import natural_frequencies, read_shaft, solve_shaft
+    from .analysis.shaft import natural_frequencies, read_shaft, solve_shaft
 
     shaft = read_shaft(args.config)
     speed, life_speed = _shaft_speed(args, shaft)
     result = solve_shaft(shaft, method=args.method, speed=speed)
     out = result.to_dict()
     if args.life and result.solution.converged:
-        from .life import LifeSettings
-        from .shaft import shaft_life
+        from .analysis.life import LifeSettings
+        from .analysis.shaft import shaft_life
 
         life = shaft_life(shaft, result, LifeSettings(speed=life_speed or None, balls_at_speed=speed > 0))
         for b, lf in zip(out["bearings"], life["bearings"]):
@@ -434,7 +434,9 @@ def _matrix(title, K) -> str:
 def _export(args) -> int:
     from pathlib import Path
 
-    from . import export, storage
+    from .report import export
+
+    from .jobs import storage
 
     out = Path(args.output)
     storage.check_output_path(out)
@@ -488,7 +490,7 @@ def _export(args) -> int:
 
 
 def _loadmap(args) -> int:
-    from .loadmap import loadmap
+    from .jobs.loadmap import loadmap
 
     return _run_job(loadmap, args)
 
@@ -502,7 +504,7 @@ def _bearing(args):
 
 
 def _bearing_command(args) -> int:
-    from .report import bearing_report, bearing_report_text
+    from .report.bearing_report import bearing_report, bearing_report_text
 
     bearing = load_bearing(args.file)
     rep = bearing_report(bearing)
@@ -579,7 +581,7 @@ def _table(result: dict) -> str:
 def _solve(args) -> int:
     from . import status as status_codes
     from .api import direct, solve
-    from .contacts import ball_contacts
+    from .analysis.contacts import ball_contacts
 
     bearing = _bearing(args)
     if not args.life and (args.kappa is not None or args.rotating != "inner" or args.contamination != 1.0):
@@ -587,7 +589,7 @@ def _solve(args) -> int:
     if args.contamination != 1.0 and args.kappa is None:
         raise ValueError("--contamination goes with --kappa (e_C enters only a_ISO, which needs the viscosity "
                          "ratio kappa in [0.1, 4])")
-    from .bearing import check_speed_model
+    from .model.bearing import check_speed_model
 
     def check_model(speed):
         try:
@@ -598,7 +600,7 @@ def _solve(args) -> int:
     speed, life_speed = _speed_option(args.speed, args.life, bool(bearing.roller_rows), check_model)
     settings = None
     if args.life:
-        from .life import LifeSettings, ratings
+        from .analysis.life import LifeSettings, ratings
 
         settings = LifeSettings(rotating=args.rotating, speed=life_speed or None, kappa=args.kappa,
                                 contamination=args.contamination, balls_at_speed=speed > 0)
@@ -622,11 +624,11 @@ def _solve(args) -> int:
     if args.balls:
         result["balls"] = ball_contacts(bearing, result["q"], speed).to_records()[:bearing.n_balls]
         if bearing.roller_rows:
-            from .contacts import roller_contacts
+            from .analysis.contacts import roller_contacts
 
             result["rollers"] = roller_contacts(bearing, result["q"]).to_records()
     if settings is not None and result["converged"]:
-        from .life import life
+        from .analysis.life import life
 
         result["life"] = life(bearing, result["f"] if args.load is None else _five_numbers(args.load, "--load"),
                               result["q"], settings).to_dict()
@@ -656,7 +658,7 @@ def _speed_option(value, life: bool, rollers: bool, check_model, subject: str = 
     """--speed in rpm, checked before any kernel runs (finite, >= 0; above 0 only where ``check_model(speed)``
     passes): (the model's speed, the speed for lives in hours). With roller rows (``rollers``) and --life
     the solve stays quasi-static and the speed gives the lives in hours only (said on stderr)."""
-    from .bearing import check_speed
+    from .model.bearing import check_speed
 
     speed = check_speed(value, "--speed")
     if speed > 0 and rollers and life:

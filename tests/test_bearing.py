@@ -179,9 +179,9 @@ def test_api_rejects_bad_vectors_before_any_kernel():
 def test_ball_table_geometry():
     b = fb.Bearing.preset("gunduz2013", "DB")
     t = b.ball_table()
-    assert t.shape == (fb.bearing.N_BALL_COLUMNS, 28)
-    np.testing.assert_allclose(t[fb.bearing.UZ0, :14], 0.52 * 0.5)
-    np.testing.assert_allclose(t[fb.bearing.UZ0, 14:], -0.52 * 0.5)
+    assert t.shape == (fb.model.bearing.N_BALL_COLUMNS, 28)
+    np.testing.assert_allclose(t[fb.model.bearing.UZ0, :14], 0.52 * 0.5)
+    np.testing.assert_allclose(t[fb.model.bearing.UZ0, 14:], -0.52 * 0.5)
     rotated = b.ball_table(cage_angle=2 * np.pi / 14)
     np.testing.assert_allclose(rotated[:2, :13], t[:2, 1:14], atol=1e-14)
     assert b.ball_exponents is None

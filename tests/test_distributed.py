@@ -24,7 +24,7 @@ CONFIG = {"bearing": {"preset": "gunduz2013", "arrangement": "DB"},
 
 @pytest.fixture(scope="module")
 def client():
-    from fastbearing.distributed import client_for
+    from fastbearing.jobs.distributed import client_for
 
     client, cluster = client_for("local:2")
     yield client
@@ -89,9 +89,9 @@ def test_resume_through_dask(client, local_map, tmp_path):
     """A local run interrupted after 3 blocks, resumed on the cluster: still identical."""
     from conftest import interrupted_after
 
-    from fastbearing import jobs
+    from fastbearing.jobs import runner as jobs
 
-    module = importlib.import_module("fastbearing.loadmap")
+    module = importlib.import_module("fastbearing.jobs.loadmap")
     out = tmp_path / "resumed.h5"
     with pytest.raises(KeyboardInterrupt):
         jobs.run(interrupted_after(module.job(module.read_config(CONFIG)), 3), out, progress=False)

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import fastbearing as fb
-from fastbearing import export as ex
+from fastbearing.report import export as ex
 
 K = fb.solve(fb.Bearing.preset("gunduz2013", "DT"), [1000.0, 0.0, 3000.0, 0.0, -74000.0]).K
 

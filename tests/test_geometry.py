@@ -14,10 +14,10 @@ from scipy.optimize import brentq
 from scipy.special import ellipe, ellipk
 
 import fastbearing as fb
-from fastbearing import geometry as geo
+from fastbearing.model import geometry as geo
 
-lm = importlib.import_module("fastbearing.loadmap")     # the package re-exports functions of these names
-ps = importlib.import_module("fastbearing.passage")
+lm = importlib.import_module("fastbearing.jobs.loadmap")     # the package re-exports functions of these names
+ps = importlib.import_module("fastbearing.jobs.passage")
 
 ROOT = Path(__file__).resolve().parents[1]
 BEARINGS = ROOT / "data" / "bearings"

@@ -1,4 +1,4 @@
-"""The high-speed ball (fastbearing/high_speed.py; docs/model.md, "High speed"): zero speed is the paper's
+"""The high-speed ball (fastbearing/engine/high_speed.py; docs/model.md, "High speed"): zero speed is the paper's
 model, Kb is df/dq with the balls re-settled, every ball is in equilibrium, an independent slow reference
 written from Harris's equations agrees, the physics trends hold, and bad input is refused."""
 
@@ -14,9 +14,9 @@ import pytest
 from scipy.optimize import fsolve
 
 import fastbearing as fb
-from fastbearing import high_speed as hs
-from fastbearing import schema
-from fastbearing.contacts import ball_contacts
+from fastbearing.engine import high_speed as hs
+from fastbearing.engine import schema
+from fastbearing.analysis.contacts import ball_contacts
 
 DATA = Path(__file__).parent.parent / "data" / "bearings"
 SPINDLE = fb.load_bearing(DATA / "7014C-DB.toml")
@@ -488,9 +488,9 @@ def test_a_speed_beyond_the_bearing_s_limit_is_refused_everywhere_naming_the_lim
     beyond it every entry point refuses, naming speed and the limit; just below, the answers are finite."""
     from conftest import cli_run
 
-    from fastbearing.bearing import speed_limit
-    from fastbearing.bearing_file import read_toml
-    from fastbearing.loadmap import loadmap
+    from fastbearing.model.bearing import speed_limit
+    from fastbearing.model.bearing_file import read_toml
+    from fastbearing.jobs.loadmap import loadmap
 
     g = GEOMETRY
     a0 = math.radians(g.contact_angle)
@@ -524,7 +524,7 @@ SPINDLE_MAP = Path(__file__).parent.parent / "data" / "examples" / "spindle-7014
 
 
 def _spindle_config(**loadmap):
-    from fastbearing.bearing_file import read_toml
+    from fastbearing.model.bearing_file import read_toml
 
     doc = read_toml(SPINDLE_MAP)
     doc["loadmap"] = {"given": "load", **loadmap}
@@ -578,7 +578,7 @@ def test_a_case_table_may_carry_the_speed_in_a_sixth_column(tmp_path):
 
 
 def test_bad_map_speeds_are_refused_before_anything_runs(tmp_path):
-    from fastbearing.bearing_file import read_toml
+    from fastbearing.model.bearing_file import read_toml
 
     for bad in (-100.0, [0.0, math.inf], {"start": -1.0, "stop": 5.0, "num": 3}):
         with pytest.raises(ValueError, match="loadmap.speed"):
@@ -593,7 +593,7 @@ def test_bad_map_speeds_are_refused_before_anything_runs(tmp_path):
 def test_a_life_map_at_speed_takes_each_ring_s_own_contacts(tmp_path):
     """L10r in a map over speed = the single-case life at speed (inner ring rotating: the cubic mean of the
     inner contacts, the 10/3 mean of the outer ones), and at 0 rpm the quasi-static life."""
-    from fastbearing import life as L
+    from fastbearing.analysis import life as L
 
     for rotating in ("inner", "outer"):
         cfg = _spindle_config(speed=[0.0, 16000.0], Fx=[300.0, 1500.0], Fz={"start": 200.0, "stop": 1500.0, "num": 3},
@@ -636,7 +636,7 @@ def test_solve_on_the_command_line_at_speed_reports_every_ball(tmp_path):
 
 
 def _spindle_passage(**passage):
-    from fastbearing.bearing_file import read_toml
+    from fastbearing.model.bearing_file import read_toml
 
     doc = read_toml(SPINDLE_MAP)
     del doc["loadmap"]
@@ -659,7 +659,7 @@ def test_a_passage_table_at_speed_solves_the_high_speed_balls_at_every_cage_posi
         assert np.allclose(fh["time"][()], angles / (2 * math.pi * fc), rtol=1e-12)
     assert (status == 0).all()
     load = np.array([500.0, 0.0, 1000.0, 0.0, 0.0])
-    from fastbearing.kernel import ball_loop
+    from fastbearing.engine.kernel import ball_loop
 
     for p, angle in enumerate(angles):
         balls = SPINDLE.ball_set(float(angle), speed=15000.0)
@@ -691,7 +691,7 @@ SPINDLE_SHAFT = Path(__file__).parent.parent / "data" / "examples" / "spindle-sh
 
 
 def test_a_shaft_at_speed_is_in_equilibrium_and_its_stiffness_is_the_sum_of_its_bearings_at_speed():
-    from fastbearing.shaft import read_shaft, solve_shaft, transfer
+    from fastbearing.analysis.shaft import read_shaft, solve_shaft, transfer
 
     shaft = read_shaft(SPINDLE_SHAFT)
     assert shaft.speed == 18000.0
@@ -714,8 +714,8 @@ def test_shaft_speed_needs_every_bearing_s_geometry_and_the_command_line_reports
     import subprocess
     import sys
 
-    from fastbearing.bearing_file import read_toml
-    from fastbearing.shaft import read_shaft
+    from fastbearing.model.bearing_file import read_toml
+    from fastbearing.analysis.shaft import read_shaft
 
     doc = read_toml(SPINDLE_SHAFT)
     doc["shaft"]["bearings"][1]["bearing"] = {"preset": "gunduz2013", "arrangement": "DB"}
@@ -752,9 +752,9 @@ def test_displacement_mode_at_speed_flags_balls_without_equilibrium(tmp_path):
     with pytest.raises(ValueError, match=r"case 1\).*ball_equilibrium"):
         fb.stiffness_many(b, [values] * 2, speed=[0.0, 190000.0])
     # the same case in a displacement-given map: flagged there too
-    from fastbearing.loadmap import loadmap
+    from fastbearing.jobs.loadmap import loadmap
 
-    from fastbearing.bearing_file import read_toml
+    from fastbearing.model.bearing_file import read_toml
 
     doc = read_toml(path)
     doc["loadmap"] = {"given": "displacement", **dict(zip(("dx", "dy", "dz", "bx", "by"), values)), "speed": 190000.0}
@@ -806,7 +806,7 @@ def test_random_speeds_race_controls_and_rings_converge_honestly_or_are_flagged(
     race control, either ring turning: a converged case carries its load evaluated afresh (so no path-
     dependent ball state) and by the independent Jones-Harris reference; the rest are not called converged,
     and under inner control the result says why."""
-    from fastbearing.bearing import speed_limit
+    from fastbearing.model.bearing import speed_limit
 
     rng = np.random.default_rng(21)
     checked = 0

@@ -14,11 +14,12 @@ from conftest import cli_run, interrupted_after
 import importlib
 
 import fastbearing as fb
-from fastbearing import jobs, storage
+from fastbearing.jobs import runner as jobs
+from fastbearing.jobs import storage
 
 # the modules, not the functions of the same name that the package exports
-loadmap_module = importlib.import_module("fastbearing.loadmap")
-passage_module = importlib.import_module("fastbearing.passage")
+loadmap_module = importlib.import_module("fastbearing.jobs.loadmap")
+passage_module = importlib.import_module("fastbearing.jobs.passage")
 
 BEARING = {"preset": "gunduz2013", "arrangement": "DB"}
 MAP = {"bearing": BEARING, "loadmap": {"Fx": {"start": -2000.0, "stop": 2000.0, "num": 8},
@@ -128,17 +129,18 @@ def test_compiling_is_announced_only_when_it_will_happen(tmp_path, monkeypatch, 
     """An empty cache: one line says the kernels compile once; a compiled or cached kernel: silence."""
     from numba import njit
 
-    from fastbearing import _cache, sweep
+    from fastbearing import _cache
+    from fastbearing.engine import sweep
 
     monkeypatch.setattr(_cache, "cache_folder", lambda: tmp_path)      # an empty cache
     monkeypatch.setattr(sweep, "never_called", njit(lambda: 1), raising=False)
-    assert jobs.needs_compiling("sweep.never_called")
+    assert jobs.needs_compiling("engine.sweep.never_called")
     sweep.never_called()
-    assert not jobs.needs_compiling("sweep.never_called")          # compiled in this process
+    assert not jobs.needs_compiling("engine.sweep.never_called")          # compiled in this process
     monkeypatch.undo()
     fb.loadmap(MAP, tmp_path / "a.h5", progress=False)
-    assert not jobs.needs_compiling("sweep.map_sweep") and "compiling" not in capsys.readouterr().err
-    monkeypatch.setattr(jobs, "needs_compiling", lambda kernel: kernel == "sweep.map_sweep")
+    assert not jobs.needs_compiling("engine.sweep.map_sweep") and "compiling" not in capsys.readouterr().err
+    monkeypatch.setattr(jobs, "needs_compiling", lambda kernel: kernel == "engine.sweep.map_sweep")
     fb.loadmap(MAP, tmp_path / "b.h5", progress=False)
     assert f"compiling kernels (one time, about {jobs.COMPILE_SECONDS} s" in capsys.readouterr().err
 
@@ -185,7 +187,7 @@ def test_resume_of_a_complete_file_with_another_config_is_refused(tmp_path):
 def test_a_run_killed_while_finishing_is_completed_by_resume(tmp_path, monkeypatch, compression):
     """Every block computed, then killed inside finish (after the file was marked complete, before the
     rename or half-way through the repack): --resume completes it, nothing recomputed or lost."""
-    from fastbearing import storage
+    from fastbearing.jobs import storage
 
     config = {"bearing": BEARING, "loadmap": {**MAP["loadmap"], "compression": compression}}
     reference = fb.loadmap(config, tmp_path / "ref.h5", progress=False)
@@ -242,7 +244,7 @@ def test_a_full_disk_is_one_line_and_keeps_the_finished_blocks(small_disk, monke
     """The up-front space check passes (another writer fills the disk later, say: here the check is
     switched off), then the disk fills during the block writes or the repack: one line, exit 1, the
     finished blocks kept, no .packing left, no crash by a signal."""
-    from fastbearing import storage
+    from fastbearing.jobs import storage
 
     monkeypatch.setattr(storage, "check_disk_space", lambda *a: None)
     cfg = small_disk / "m.toml"

@@ -197,7 +197,7 @@ def test_ball_loads_sum_to_the_load():
     q = [0.01, -0.005, 0.02, 1e-4, -2e-4]
     Q, alpha = fb.ball_loads(bearing, q)
     f, _ = fb.stiffness(bearing, q)
-    s = bearing.ball_table()[fb.bearing.DIRECTION]
+    s = bearing.ball_table()[fb.model.bearing.DIRECTION]
     # axial force: each ball pushes Q sin(alpha) along its contact direction
     assert np.sum(Q * np.sin(alpha) * s) == pytest.approx(f[2], rel=1e-12)
     assert (Q >= 0).all() and (Q > 0).sum() > 0

@@ -67,9 +67,30 @@ def find_cycle(graph):
     return None
 
 
+#: The layers, lowest first: a module may import from its own layer and the ones below, never above.
+#: Leaves every layer reads (units, status codes, settings, validation, files) sit below the engine;
+#: ``api`` (solve, stiffness) is what analysis builds on; the command line is on top.
+LAYERS = (("config", "status", "dofs", "validate", "files", "_cache"), ("engine",), ("model",), ("api",),
+          ("analysis",), ("jobs",), ("report",), ("cli", "__init__"))
+
+
+def _layer(module: str) -> int:
+    top = module.split(".")[0]
+    return next(i for i, names in enumerate(LAYERS) if top in names)
+
+
+def test_the_layers_import_downwards_only():
+    """engine/ (kernels, solver, sweeps) < model/ (bearings, geometry) < api < analysis/ (life, contacts,
+    shaft) < jobs/ (runner, storage, grid, maps, passage tables) < report/ (pictures, paper, export, text
+    reports) < the command line: the layout shows the layers, and the imports keep to them (issue 35)."""
+    graph = import_graph()
+    upward = sorted(f"{a} -> {b}" for a, targets in graph.items() for b in targets if _layer(b) > _layer(a))
+    assert not upward, upward
+
+
 def test_no_import_circles():
     graph = import_graph()
-    assert "api" in graph and "bearing" in graph["api"]        # the parser sees the package's imports
+    assert "api" in graph and "model.bearing" in graph["api"]  # the parser sees the package's imports
     cycle = find_cycle(graph)
     assert cycle is None, " -> ".join(cycle)
 
@@ -94,7 +115,7 @@ def test_every_module_with_kernels_is_in_the_cache_hash():
     from fastbearing import _cache
 
     graph = import_graph()
-    jitted = {path.stem for path in PACKAGE.glob("*.py") if path.name != "_cache.py"
+    jitted = {_module_name(path) for path in PACKAGE.rglob("*.py") if path.name != "_cache.py"
               and re.search(r"^\s*@(njit|overload|intrinsic|generated_jit)\b", path.read_text(), re.M)}
     needed, todo = set(jitted), list(jitted)
     while todo:
@@ -102,10 +123,11 @@ def test_every_module_with_kernels_is_in_the_cache_hash():
             if imported not in needed:
                 needed.add(imported)
                 todo.append(imported)
-    hashed = {name[:-3] for name in _cache.kernel_modules()}
-    needed.discard("_cache")  # the hasher itself (config.py starts it)
+    hashed = {name[:-3].replace("/", ".") for name in _cache.kernel_modules()}
+    needed -= {"_cache", "engine"}  # the hasher itself (config.py starts it); the layer's empty __init__
     assert needed <= hashed, sorted(needed - hashed)
-    assert {"schema", "kernel", "high_speed", "solver", "sweep"} <= hashed and "cli" not in hashed
+    assert {"engine.schema", "engine.kernel", "engine.high_speed", "engine.solver", "engine.sweep"} <= hashed
+    assert "cli" not in hashed and not any(name.startswith(("model", "jobs")) for name in hashed)
 
 
 def test_every_kernel_a_caller_can_reach_is_cached_on_disk():
@@ -119,7 +141,7 @@ def test_every_kernel_a_caller_can_reach_is_cached_on_disk():
 
     uncached = []
     for name in _cache.kernel_modules():
-        module = importlib.import_module(f"fastbearing.{name[:-3]}")
+        module = importlib.import_module(f"fastbearing.{name[:-3].replace('/', '.')}")
         for attr, obj in vars(module).items():
             if (isinstance(obj, CPUDispatcher) and obj.__module__ == module.__name__
                     and obj.targetoptions.get("inline", "never") != "always"
@@ -145,7 +167,7 @@ def test_stale_kernel_cache_is_dropped_also_under_numba_cache_dir(tmp_path):
     folder = Path(folder)
     assert folder.is_relative_to(tmp_path / "cache")
     assert (folder / "kernel.ball_loop-1.py311.nbi").exists()
-    subprocess.run([sys.executable, "-c", "import fastbearing.kernel"], env=env, check=True)  # the first kernel
+    subprocess.run([sys.executable, "-c", "import fastbearing.engine.kernel"], env=env, check=True)  # the first kernel
     assert not (folder / "kernel.ball_loop-1.py311.nbi").exists()
     from fastbearing import _cache
 
@@ -161,7 +183,11 @@ def test_kernels_without_reference_counting_never_return_arrays(tmp_path):
     from numba.core.registry import CPUDispatcher
 
     import fastbearing as fb
-    from fastbearing import high_speed, kernel, linalg, solver, sweep
+    from fastbearing.engine import high_speed
+    from fastbearing.engine import kernel
+    from fastbearing.engine import linalg
+    from fastbearing.engine import solver
+    from fastbearing.engine import sweep
 
     bearings = PACKAGE.parent / "data" / "bearings"
     fb.solve(fb.Bearing.preset("gunduz2013", "DB"), [100.0, 0.0, 500.0, 0.0, 1e3])

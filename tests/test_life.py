@@ -12,8 +12,8 @@ import pytest
 from conftest import cli_run
 
 import fastbearing as fb
-from fastbearing import life as L
-from fastbearing.geometry import Material
+from fastbearing.analysis import life as L
+from fastbearing.model.geometry import Material
 
 BEARINGS = Path(__file__).resolve().parents[1] / "data" / "bearings"
 STEEL_210 = Material("steel-210", 210000.0, 0.3)
@@ -204,7 +204,7 @@ def iso16281_roller_example(**kw):
     """github.com/minzhun/ISO16281, RollerBearing.py (commit d50efb01) example: an N 305-size cylindrical
     roller bearing, Z = 6, Dw = 9, Dpw = 43.5, l = 13.6 mm, 40 laminae, diametral clearance 0.01 mm,
     C = 31 500 N, Fr = 1000 N, ISO/TS 16281's steel constant c_l = 35 948 l^(8/9)."""
-    from fastbearing.roller_geometry import RollerGeometry
+    from fastbearing.model.roller_geometry import RollerGeometry
 
     g = RollerGeometry("cylindrical_roller", 6, 9.0, 13.6, 43.5, diametral_clearance=0.01, slices=40,
                        dynamic_load_rating=31500.0, **kw)
@@ -278,7 +278,7 @@ def test_roller_map_life_equals_the_single_solves(tmp_path):
 
 def test_shaft_life_on_a_roller_and_a_ball_bearing():
     """NU 205 (rollers, slope 9/8) and 6305 (balls, 10/9): the system life solves sum (L/L_i)^e_i = 1."""
-    from fastbearing.shaft import read_shaft, shaft_life, solve_shaft
+    from fastbearing.analysis.shaft import read_shaft, shaft_life, solve_shaft
 
     shaft = read_shaft(Path(__file__).resolve().parents[1] / "data" / "examples" / "shaft-cylindrical-and-ball.toml")
     out = shaft_life(shaft, solve_shaft(shaft))

@@ -16,8 +16,8 @@ import numpy as np
 import pytest
 
 import fastbearing as fb
-from fastbearing.grid import LINE_SEGMENT, plan_blocks, segment_starts
-from fastbearing.loadmap import loadmap, open_dataset, read_config
+from fastbearing.jobs.grid import LINE_SEGMENT, plan_blocks, segment_starts
+from fastbearing.jobs.loadmap import loadmap, open_dataset, read_config
 
 ROOT = Path(__file__).resolve().parents[1]
 VARIABLES = ("q", "f", "K", "status", "iterations", "residual", "max_ball_load", "loaded_balls",
@@ -224,15 +224,17 @@ def test_case_files(tmp_path, suffix):
 
 def test_a_case_file_names_the_column_that_is_not_finite(tmp_path):
     """A NaN in the speed column is named as the speed (issue 33), as one in a load column is named so."""
+    from fastbearing.jobs.grid import read_case_file
+
     cases = np.array([[1000.0, 0, 2000.0, 0, 0, 3000.0], [1000.0, 0, 2000.0, 0, 0, np.nan]])
     path = tmp_path / "cases.csv"
     np.savetxt(path, cases, delimiter=",", header="Fx,Fy,Fz,Mx,My,speed", comments="")
     with pytest.raises(ValueError, match=r"case 1 column 5 \(speed \(rpm\)\) is not finite \(nan\)"):
-        fb.grid.read_case_file(path, "loadmap.cases")
+        read_case_file(path, "loadmap.cases")
     cases[1, 5], cases[0, 2] = 0.0, np.inf
     np.savetxt(path, cases, delimiter=",")
     with pytest.raises(ValueError, match=r"case 0 column 2 \(Fz or dz \(N or mm\)\) is not finite \(inf\)"):
-        fb.grid.read_case_file(path, "loadmap.cases")
+        read_case_file(path, "loadmap.cases")
 
 
 def test_xarray_layout_units_and_provenance(small_map):
@@ -360,11 +362,11 @@ def test_ctrl_c_stops_inside_a_long_block(tmp_path):
     import dataclasses
     import importlib
 
-    from fastbearing import jobs
+    from fastbearing.jobs import runner as jobs
 
     loadmap(config(tmp_path, "Fx = [0.5, 1.0]\nFz = 0.5\n", bearing=HARD_BEARING), tmp_path / "warm.h5",
             progress=False)  # compiled first: the signal must find the sweep running
-    module = importlib.import_module("fastbearing.loadmap")
+    module = importlib.import_module("fastbearing.jobs.loadmap")
     job = module.job(read_config(config(tmp_path, HARD_MAP, bearing=HARD_BEARING)))
     left = []
 
@@ -401,7 +403,7 @@ def test_curved_predictors_are_one_and_two_orders_better_than_the_tangent():
     falls as h^2 with the load step h, the parabola's (sweep.curved_predictor without the earlier slope)
     as h^3 and the cubic's (with the slope the previous case's tangent step gives) as h^4. Where every ball
     stays loaded (q(F) smooth; a ball entering contact is where all lose an order)."""
-    from fastbearing.sweep import PREDICTOR_ROWS, curved_predictor, tangent_predictor
+    from fastbearing.engine.sweep import PREDICTOR_ROWS, curved_predictor, tangent_predictor
 
     bearing = fb.Bearing.preset("gunduz2013", "single")
     base, line = np.array([300.0, 0.0, 5000.0, 0.0, -2000.0]), np.array([0.0, 0.0, 0.0, 0.0, 1.0])
@@ -431,7 +433,7 @@ def test_curved_predictors_are_one_and_two_orders_better_than_the_tangent():
 def test_row_summary_against_numpy():
     """sweep.row_summary (the map's per-row max ball load, loaded count, contact angle range) against numpy
     over random records: rows consecutive or interleaved, unloaded balls, a row with none loaded, nan."""
-    from fastbearing.sweep import row_summary
+    from fastbearing.engine.sweep import row_summary
 
     rng = np.random.default_rng(7)
     for trial in range(200):

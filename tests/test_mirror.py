@@ -11,8 +11,8 @@ from conftest import random_rows, to_row
 from naive import naive_load_stiffness
 
 import fastbearing as fb
-from fastbearing.bearing import BALL_OF, COS_PSI, HALF_COUNT, KN, MIRROR_HALF, MIRROR_OF, SIN_PSI, WEIGHT
-from fastbearing.kernel import ball_loop
+from fastbearing.model.bearing import BALL_OF, COS_PSI, HALF_COUNT, KN, MIRROR_HALF, MIRROR_OF, SIN_PSI, WEIGHT
+from fastbearing.engine.kernel import ball_loop
 
 #: Kb entries and f components odd in y: zero under a planar displacement of a mirror-symmetric set.
 ODD_K = [(0, 1), (0, 3), (1, 2), (1, 4), (2, 3), (3, 4)]
@@ -165,7 +165,7 @@ def test_a_ball_unlike_its_image_switches_the_mirror_half_off(rng):
     image (here one ball's Hertz constant, as a per-element property would) leaves no mirror half, so the
     planar kernel sums every ball and agrees with the full loop bit for bit; ball_set(mirror=False) is the
     switch for a feature kept outside the table."""
-    from fastbearing.bearing import _fill_mirror_half
+    from fastbearing.model.bearing import _fill_mirror_half
 
     bearing = fb.Bearing.preset("gunduz2013", "DB")
     assert bearing.mirror_symmetric

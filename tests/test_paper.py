@@ -10,7 +10,8 @@ pytest.importorskip("matplotlib")
 import matplotlib.image as mpimg  # noqa: E402
 
 import fastbearing as fb  # noqa: E402
-from fastbearing import cli, paper  # noqa: E402
+from fastbearing import cli  # noqa: E402
+from fastbearing.report import paper  # noqa: E402
 
 SCALE = np.array([1e3, 1e3, 1e3, 1e6, 1e6])  # kN/mm, MN*mm/rad
 ENTRIES = ("kxx", "kyy", "kzz", "kθxθx", "kθyθy")
@@ -153,7 +154,7 @@ def legend_texts(ax):
 
 
 def test_coinciding_curves_say_so_and_stay_visible():
-    from fastbearing import plot
+    from fastbearing.report import plot
 
     with plot.style():
         fig6, _ = paper.fig06(paper.POINTS)
@@ -172,7 +173,7 @@ def test_coinciding_curves_say_so_and_stay_visible():
 
 
 def test_sweeps_have_enough_points_dense_near_zero():
-    from fastbearing import plot
+    from fastbearing.report import plot
 
     assert paper.POINTS >= 41
     with plot.style():
@@ -187,7 +188,7 @@ def test_sweeps_have_enough_points_dense_near_zero():
 
 
 def test_every_panel_of_figs_12_and_14_has_its_legend(tmp_path):
-    from fastbearing import plot
+    from fastbearing.report import plot
 
     a0 = np.array([0.0, 30.0, 60.0])
     with plot.style():

@@ -10,7 +10,7 @@ import pytest
 from conftest import cli_run
 
 import fastbearing as fb
-from fastbearing.passage import fourier, read_config
+from fastbearing.jobs.passage import fourier, read_config
 
 
 def run(tmp_path, passage_body, bearing='preset = "gunduz2013"\narrangement = "DB"', name="p", **kw):
@@ -73,7 +73,7 @@ def test_table_is_periodic_and_position_zero_is_the_definition(tmp_path):
     bearing = fb.Bearing.preset("gunduz2013", "DB")
     q = np.array([0.03, -0.01, 0.02, 1e-4, -3e-4])
     np.testing.assert_array_equal(K[0, 0], fb.stiffness(bearing, q)[1])
-    from fastbearing.kernel import ball_loop
+    from fastbearing.engine.kernel import ball_loop
     f, K_period = np.empty(5), np.empty((5, 5))
     ball_loop(q, bearing.ball_set(cage_angle=2 * math.pi / 14), f, K_period, None, None)
     np.testing.assert_allclose(K_period, K[0, 0], rtol=1e-9, atol=1e-9 * np.abs(K[0, 0]).max())
@@ -123,7 +123,7 @@ def test_rows_with_different_ball_counts_use_the_common_period(tmp_path):
     out = fb.passage(cfg, tmp_path / "mixed.h5")
     K, angle = load(out, "K", "cage_angle")
     np.testing.assert_allclose(angle, np.arange(12) * math.pi / 12)
-    from fastbearing.kernel import ball_loop
+    from fastbearing.engine.kernel import ball_loop
     f, K_end = np.empty(5), np.empty((5, 5))
     ball_loop(np.array([0.05, 0, 0.01, 0, 0]), cfg.bearing.ball_set(math.pi), f, K_end, None, None)
     np.testing.assert_allclose(K_end, K[0, 0], rtol=1e-9, atol=1e-9 * np.abs(K_end).max())

@@ -11,7 +11,8 @@ pytest.importorskip("matplotlib")
 import matplotlib.image as mpimg  # noqa: E402
 
 import fastbearing as fb  # noqa: E402
-from fastbearing import cli, plot  # noqa: E402
+from fastbearing import cli  # noqa: E402
+from fastbearing.report import plot  # noqa: E402
 
 
 @pytest.fixture(scope="module")

@@ -200,16 +200,16 @@ def run_python(block: Block, namespace: dict) -> None:
 
 def check_toml(block: Block, folder: Path) -> None:
     """A TOML example is accepted by the reader of its tables."""
-    from fastbearing.bearing_file import load_bearing
+    from fastbearing.model.bearing_file import load_bearing
 
     where = f"README line {block.line}"
     body = tomllib.loads(block.text)
     path = folder / f"readme-{block.line}.toml"
     path.write_text(block.text)
     if "loadmap" in body:
-        from fastbearing.loadmap import read_config
+        from fastbearing.jobs.loadmap import read_config
     elif "passage" in body:
-        from fastbearing.passage import read_config
+        from fastbearing.jobs.passage import read_config
     else:
         assert "bearing" in body, f"{where}: a TOML example without a [bearing], [loadmap] or [passage] table"
         load_bearing(path)

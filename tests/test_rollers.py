@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import fastbearing as fb
-from fastbearing.rollers import RollerRow
+from fastbearing.model.rollers import RollerRow
 
 # K of a whole roller, both raceways in series (Palmgren's steel line contact, 8.06e4 l^(8/9) per raceway):
 # 37 310 l^(8/9) N/mm^(10/9).
@@ -236,7 +236,7 @@ def test_maps_passage_tables_and_pictures_take_roller_rows(tmp_path):
                                                         "positions": 8}}, tmp_path / "p.h5", progress=False)
     assert (fb.open_dataset(table)["status"].values == 0).all()
     pytest.importorskip("matplotlib")
-    from fastbearing.plot import plot_load_zone
+    from fastbearing.report.plot import plot_load_zone
 
     fig = plot_load_zone(b, r.q)
     assert "rollers loaded" in fig.axes[0].get_title()
@@ -248,8 +248,8 @@ DATA = __import__("pathlib").Path(__file__).resolve().parents[1] / "data"
 def test_roller_rows_from_catalogue_geometry():
     """K from Palmgren's line contact, 8.06e4 l^(8/9) per raceway, two raceways in series:
     37 310 l^(8/9) N/mm^(10/9) for steel; other materials by E'/E'_steel; pitch radius dm/2; rL = Pd/2."""
-    from fastbearing.roller_geometry import RollerGeometry, line_constant
-    from fastbearing.geometry import SILICON_NITRIDE
+    from fastbearing.model.roller_geometry import RollerGeometry, line_constant
+    from fastbearing.model.geometry import SILICON_NITRIDE
 
     assert line_constant(10.0) == pytest.approx(37310.0 * 10.0 ** (8 / 9), rel=2e-4)
     per_raceway = 8.06e4 * 10.0 ** (8 / 9)
@@ -277,7 +277,7 @@ def test_shipped_roller_bearings_and_shafts():
     assert axial.status_name == "singular"
     pair = fb.load_bearing(DATA / "bearings" / "30206-TDO.toml")
     assert pair.arrangement == "TDO" and fb.solve(pair, [8000.0, 0, 2000.0, 0, 1e5]).converged
-    from fastbearing.shaft import read_shaft, solve_shaft
+    from fastbearing.analysis.shaft import read_shaft, solve_shaft
 
     gear = solve_shaft(read_shaft(DATA / "examples" / "gearbox-tapered-pair.toml"))
     assert gear.solution.converged
@@ -292,8 +292,8 @@ def test_slice_record_edge_loading_and_line_contact_pressure():
     """Under a tilt the most loaded slice of an uncrowned roller is its end slice (edge loading); the
     rollers' totals are the sums of their slices; the pressure is Hertz's line contact
     p = sqrt((q/w) E' / (2 pi R)), R = Dw (1 -+ g)/2."""
-    from fastbearing.contacts import roller_contacts
-    from fastbearing.roller_geometry import RollerGeometry
+    from fastbearing.analysis.contacts import roller_contacts
+    from fastbearing.model.roller_geometry import RollerGeometry
 
     g = RollerGeometry("cylindrical_roller", 13, 7.5, 7.0, 39.0, slices=20)
     b = g.bearing()
@@ -328,7 +328,7 @@ def shipped_pair(arrangement):
 
 def row_loads(bearing, q):
     """Each row's total roller load in N at q."""
-    from fastbearing.contacts import slice_loads
+    from fastbearing.analysis.contacts import slice_loads
 
     totals, _ = slice_loads(bearing, q)
     rows = bearing.element_rows[bearing.n_balls:]
@@ -395,7 +395,7 @@ def bound_words(field, bound):
 def test_roller_interference_and_preload_are_bounded(make, key, value, bound):
     """A preload or interference may press each roller by at most 0.005 l (PRELOAD_APPROACH_LIMIT), where
     steel rollers reach their static rating's contact pressure; just inside the bound still solves."""
-    from fastbearing.rollers import PRELOAD_APPROACH_LIMIT
+    from fastbearing.model.rollers import PRELOAD_APPROACH_LIMIT
 
     assert PRELOAD_APPROACH_LIMIT == 0.005
     with pytest.raises(ValueError, match=bound_words(f"rows\\[0\\]\\.{key}", bound)):

@@ -3,7 +3,7 @@
 import numpy as np
 from numba import njit
 
-from fastbearing.roots import cube_root, ninth_root
+from fastbearing.engine.roots import cube_root, ninth_root
 
 
 @njit

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import fastbearing as fb
-from fastbearing import shaft as sh
+from fastbearing.analysis import shaft as sh
 
 SINGLE = fb.Bearing.preset("gunduz2013", "single")
 FIG2_LOAD = sh.PointLoad(0.0, (1000.0, 0.0, 3000.0))

@@ -9,7 +9,7 @@ from conftest import PAPER_LOADS
 import fastbearing as fb
 from fastbearing import status as st
 from fastbearing.api import solver_settings
-from fastbearing.solver import WORK_ROWS, solve_case
+from fastbearing.engine.solver import WORK_ROWS, solve_case
 
 KILO = np.array([1e3, 1e3, 1e3, 1e6, 1e6])  # kN/mm and MN*mm/rad, as the paper prints them
 D = np.array([1, 1, 1, 1 / 34.75, 1 / 34.75])  # moments / R
@@ -234,7 +234,7 @@ def test_solve_many_matches_solve_and_is_thread_independent(rng):
 def test_energy_fallback_converges_on_its_own(arrangement, extra):
     """The fallback (energy minimisation with the contact law smoothed, eps -> 0), run alone from a cold
     start, reaches the same solution as the main path."""
-    from fastbearing.solver import _D, _cold_start, _smoothing_continuation
+    from fastbearing.engine.solver import _D, _cold_start, _smoothing_continuation
 
     bearing = fb.Bearing.preset("gunduz2013", arrangement, **extra)
     load = np.array(PAPER_LOADS["table4"])
@@ -262,7 +262,7 @@ def test_the_stiffness_solve_takes_ldl_for_a_symmetric_kb_and_lu_for_kb_at_speed
     through LDL^T (a matrix that is not positive definite is refused), a Kb at speed (not symmetric: the
     gyroscopic friction) through LU, which solves the whole matrix, not its lower triangle; both against
     numpy.linalg.solve, shift included."""
-    from fastbearing.linalg import stiffness_solve
+    from fastbearing.engine.linalg import stiffness_solve
 
     rng = np.random.default_rng(4)
     M = rng.standard_normal((5, 5))
@@ -292,7 +292,7 @@ def test_the_stiffness_solve_of_a_planar_kb_splits_into_two_factors():
     """A Kb without the couplings of (y, tx) to (x, z, ty) (a planar displacement of a mirror-symmetric
     ball set) is factored as two independent blocks (linalg._split_ldl_solve): against numpy.linalg.solve,
     shift included, every pivot of both blocks checked."""
-    from fastbearing.linalg import stiffness_solve
+    from fastbearing.engine.linalg import stiffness_solve
 
     rng = np.random.default_rng(5)
     even, odd = [0, 2, 4], [1, 3]

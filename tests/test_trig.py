@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from numba import njit
 
-from fastbearing.trig import atan2
+from fastbearing.engine.trig import atan2
 
 
 @njit

@@ -11,7 +11,7 @@ from conftest import cli_run
 
 import fastbearing as fb
 from fastbearing import status as st
-from fastbearing.geometry import CONTACT_PRESSURE_LIMIT
+from fastbearing.model.geometry import CONTACT_PRESSURE_LIMIT
 
 ROOT = __import__("pathlib").Path(__file__).resolve().parents[1]
 B6305 = ROOT / "data" / "bearings" / "6305.toml"

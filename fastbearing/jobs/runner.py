@@ -31,13 +31,17 @@ from typing import Callable
 
 import numpy as np
 
-from . import status as st, storage, validate
-from .api import check_threads, num_threads
-from .bearing import Bearing
-from .dofs import AXES, DOF_LABELS, LONG_NAMES, UNITS, UNITS_CONVENTION
-from .files import DiskFull
+from .. import status as st
+
+from . import storage
+
+from .. import validate
+from ..api import check_threads, num_threads
+from ..model.bearing import Bearing
+from ..dofs import AXES, DOF_LABELS, LONG_NAMES, UNITS, UNITS_CONVENTION
+from ..files import DiskFull
 from .grid import CaseSet, plan_blocks
-from .solver import SolverSettings
+from ..engine.solver import SolverSettings
 
 #: Most blocks a Dask run may have out on the cluster at once.
 MAX_IN_FLIGHT = 10_000
@@ -81,7 +85,7 @@ class Job:
     attrs: dict = field(default_factory=dict)
     solves_per_case: int = 1                 # e.g. cage positions per operating point
     case_word: str = "case"                  # "case" or "point", in the summary and progress bar
-    kernel: str = ""                         # the sweep compute runs, "sweep.map_sweep": to tell of compiling
+    kernel: str = ""                         # the sweep compute runs, "engine.sweep.map_sweep": to tell of compiling
 
     def bytes_needed(self) -> int:
         return self.cases.n_cases * storage.bytes_per_case(list(self.variables), self.sizes)
@@ -209,19 +213,20 @@ COMPILE_SECONDS = 30
 
 
 def needs_compiling(kernel: str) -> bool:
-    """True when ``kernel`` ("module.function" in fastbearing) is neither compiled in this process nor in
+    """True when ``kernel`` ("package.module.function" below fastbearing) is neither compiled in this process nor in
     numba's on-disk cache, so its first call compiles it (tens of seconds)."""
     if not kernel:
         return False
     import importlib
 
-    from ._cache import cache_folder
+    from .._cache import cache_folder
 
     module, name = kernel.rsplit(".", 1)
     dispatcher = getattr(importlib.import_module(f"fastbearing.{module}"), name, None)
     if dispatcher is None or getattr(dispatcher, "signatures", None):
         return False
-    return not any(cache_folder().glob(f"{module}.{name}-*.nbi"))
+    # numba names a cache file by the module's file name and the function's
+    return not any(cache_folder().glob(f"{module.rpartition('.')[2]}.{name}-*.nbi"))
 
 
 def check_in_flight(max_in_flight, name: str = "max_in_flight") -> int | None:

@@ -13,7 +13,7 @@ import tomllib
 from dataclasses import replace
 from pathlib import Path
 
-from . import validate
+from .. import validate
 from .bearing import SHARED_ROW_KEYS, Bearing, preset_names, preset_table
 from .geometry import geometry_from_table
 from .rollers import ROLLER_KEYS

@@ -6,7 +6,7 @@ when the matrix is not usable.
 
 from numba import njit
 
-from .config import CACHE, ERROR_MODEL, FASTMATH, REFCOUNT
+from ..config import CACHE, ERROR_MODEL, FASTMATH, REFCOUNT
 
 
 @njit(cache=CACHE, fastmath=FASTMATH, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)

@@ -34,13 +34,13 @@ from collections import namedtuple
 
 from numba import njit
 
-from .config import (CACHE, DIVERGED_REACH, ERROR_MODEL, FASTMATH, NEWTON, RECORD_AHEAD, REFCOUNT,
+from ..config import (CACHE, DIVERGED_REACH, ERROR_MODEL, FASTMATH, NEWTON, RECORD_AHEAD, REFCOUNT,
                      SEARCH_CURVATURE, SEARCH_TRIALS, SMOOTHING_FIRST, SMOOTHING_LAST, SMOOTHING_RATIO, SMOOTHING_RTOL, STAGNATION_ITERATIONS,
                      STILL_START_RTOL)
 from .schema import A0, AXIAL_OFFSET, EXPONENT, ElementSet
 from .kernel import SETTLE_PASSES, ball_loop, forget_warm, settled_loop, slice_reach, take_linearised
 from .linalg import ldl_solve, lu_solve, stiffness_solve
-from .status import (BALL_EQUILIBRIUM, BALL_LINEARISED, BALL_UNSETTLED, CONVERGED, ITERATION_LIMIT, NONFINITE_INPUT,
+from ..status import (BALL_EQUILIBRIUM, BALL_LINEARISED, BALL_UNSETTLED, CONVERGED, ITERATION_LIMIT, NONFINITE_INPUT,
                      NONFINITE_RESULT, PRECISION_LIMIT, SINGULAR, STALLED, UNLOADED, WARNING_MASK)
 
 #: The solver's settings, one record: ``method`` (NEWTON or BROYDEN), ``rtol`` (relative residual),

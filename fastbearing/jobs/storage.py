@@ -27,9 +27,9 @@ from pathlib import Path
 import h5py
 import numpy as np
 
-from . import status as st
-from .dofs import DISPLACEMENT_UNITS, K_UNITS, LOAD_UNITS
-from .files import refuse_overwrite
+from .. import status as st
+from ..dofs import DISPLACEMENT_UNITS, K_UNITS, LOAD_UNITS
+from ..files import refuse_overwrite
 
 COMPLETE = "fastbearing_complete"
 COMPRESSIONS = ("none", "lzf", "gzip")
@@ -564,7 +564,7 @@ def versions() -> dict:
     """Provenance: versions of the packages that made a file."""
     import numba
 
-    from . import __version__
+    from .. import __version__
 
     return {"fastbearing_version": __version__, "numba_version": numba.__version__, "h5py_version": h5py.__version__,
             "numpy_version": np.__version__, "hdf5_version": h5py.version.hdf5_version,

@@ -20,14 +20,18 @@ from pathlib import Path
 
 import numpy as np
 
-from . import jobs, storage, validate
-from .api import solver_settings
-from .bearing import Bearing, check_speed, check_speed_model, rpm_to_rad_s
-from .bearing_file import read_job_config
-from .dofs import AXES, K_ENTRIES, K_UNITS, UNITS
-from .files import publish
+from . import runner as jobs
+
+from . import storage
+
+from .. import validate
+from ..api import solver_settings
+from ..model.bearing import Bearing, check_speed, check_speed_model, rpm_to_rad_s
+from ..model.bearing_file import read_job_config
+from ..dofs import AXES, K_ENTRIES, K_UNITS, UNITS
+from ..files import publish
 from .grid import Axis, CaseSet, parse_axis
-from .sweep import passage_sweep
+from ..engine.sweep import passage_sweep
 
 _PASSAGE_KEYS = {"given", "points", "positions", "harmonics", "speed", "shaft_speed", "ball_diameter",
                  "pitch_diameter", "rotating", "method", "rtol", "max_iter", "chunk"}
@@ -244,7 +248,7 @@ def job(cfg: PassageConfig) -> jobs.Job:
         sizes={"dof": 5, "dof_col": 5, "row": cfg.bearing.n_rows, "position": cfg.positions, "harmonic": H + 1},
         compute=compute, settings=settings, method=cfg.method, chunk=cfg.chunk, text=cfg.text, source=cfg.source,
         fingerprint=cfg.fingerprint, own_dims=own, aux_coords=tuple(aux), attrs=attrs,
-        solves_per_case=cfg.positions, case_word="point", kernel="sweep.passage_sweep")
+        solves_per_case=cfg.positions, case_word="point", kernel="engine.sweep.passage_sweep")
 
 
 def passage(config, output=None, *, threads=None, resume=False, overwrite=False, csv_files=False, progress=None,

@@ -29,8 +29,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import validate
-from .schema import (N_SLICE_COLUMNS, S_ANGLE, S_AXIAL, S_COS_PSI, S_COUNT, S_NORMAL_R, S_NORMAL_Z,  # noqa: F401
+from .. import validate
+from ..engine.schema import (N_SLICE_COLUMNS, S_ANGLE, S_AXIAL, S_COS_PSI, S_COUNT, S_NORMAL_R, S_NORMAL_Z,  # noqa: F401
                      S_OFFSET, S_POSITION, S_RADIUS, S_ROLLER, S_ROW, S_SCALE, S_SIN_PSI, S_STIFFNESS)
 
 ELEMENTS = ("ball", "cylindrical_roller", "tapered_roller")

@@ -32,8 +32,8 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from . import validate
-from .schema import (LIFE_CE, LIFE_CI, LIFE_FIRST, LIFE_INNER, LIFE_SLICES, LIFE_X0, LIFE_Y0, LIFE_Z, N_LIFE_COLUMNS,
+from .. import validate
+from ..engine.schema import (LIFE_CE, LIFE_CI, LIFE_FIRST, LIFE_INNER, LIFE_SLICES, LIFE_X0, LIFE_Y0, LIFE_Z, N_LIFE_COLUMNS,
                      ROW)
 
 #: ISO 281 Table 2, column 1 (single-row radial and single- or double-row angular contact ball
@@ -530,7 +530,7 @@ def rating_life(bearing, load, *, q=None, rotating: str = "inner", speed=None, k
     (said in ``notes``). Lives in hours at that speed too. ``q`` (mm, rad) is the displacement solved at
     that speed; solved here when not given, and refused unless it is finite and carries ``load`` (within
     Q_LOAD_RTOL)."""
-    from .api import _as_vector
+    from ..api import _as_vector
 
     load = _as_vector(load, "load", "N, N*mm")
     settings = LifeSettings(rotating=rotating, speed=speed, kappa=kappa, contamination=contamination)
@@ -542,13 +542,13 @@ def rating_life(bearing, load, *, q=None, rotating: str = "inner", speed=None, k
             notes.append("the high-speed model covers ball rows; roller rows are solved quasi-statically and "
                          "the speed gives the lives in hours")
         else:
-            from .bearing import check_speed, check_speed_model
+            from ..model.bearing import check_speed, check_speed_model
 
             check_speed_model(bearing, check_speed(settings.speed))
             model_speed = settings.speed
             settings = replace(settings, balls_at_speed=True)
     if q is None:
-        from .api import solve
+        from ..api import solve
 
         result = solve(bearing, load, speed=model_speed)
         if not result.converged:
@@ -564,7 +564,7 @@ def rating_life(bearing, load, *, q=None, rotating: str = "inner", speed=None, k
 def _checked_displacement(bearing, load, q, speed: float) -> np.ndarray:
     """``q`` (mm, rad) if it is five finite numbers whose f(q) at ``speed`` (rpm) carries ``load`` within
     Q_LOAD_RTOL; ValueError naming q otherwise (a life from another load's distribution would look right)."""
-    from .api import _as_vector, stiffness
+    from ..api import _as_vector, stiffness
 
     q = _as_vector(q, "q", "mm, rad")
     f, _ = stiffness(bearing, q, speed=speed)
@@ -631,7 +631,7 @@ def life(bearing, load, q, settings: LifeSettings | None = None) -> LifeResult:
 def _ball_lives(bearing, q, r: BearingRatings, settings: LifeSettings):
     """Rows' L10r, equivalent contact loads Q_ei, Q_ee and the largest contact pressure, ball rows."""
     from .contacts import ball_contacts
-    from .sweep import case_life
+    from ..engine.sweep import case_life
 
     at_speed = settings.balls_at_speed and bool(settings.speed)
     contacts = ball_contacts(bearing, q, settings.speed if at_speed else 0.0)  # one evaluation: loads, pressures
@@ -657,7 +657,7 @@ def _roller_lives(bearing, q, r: BearingRatings, settings: LifeSettings):
     """Rows' L10r from the slice loads (ISO/TS 16281 sliced), the whole rollers' equivalent loads (the
     4th- and 9/2-power means of the roller loads) and the largest line-contact pressure."""
     from .contacts import rollers_from_slices, slice_loads
-    from .sweep import roller_case_life
+    from ..engine.sweep import roller_case_life
 
     roller_loads, per_row = slice_loads(bearing, q)  # one kernel evaluation: slice loads and pressures
     # the life by the maps' one implementation (sweep.roller_case_life), from a record laid out as the

@@ -22,11 +22,11 @@ from .schema import (A0, AXIAL_OFFSET, BALL_OF, COS_PSI, DEFLECTION_LIMIT, DIREC
                      MIRROR_HALF, MIRROR_OF, PITCH_RADIUS, SHARE, SIN_PSI, S_ANGLE, S_AXIAL,
                      S_COS_PSI, S_COUNT, S_NORMAL_R, S_NORMAL_Z, S_OFFSET, S_POSITION, S_RADIUS, S_ROLLER, S_SCALE,
                      S_SIN_PSI, S_STIFFNESS, UR0, UZ0, WEIGHT)
-from .config import CACHE, ERROR_MODEL, KERNEL_FASTMATH, REFCOUNT
+from ..config import CACHE, ERROR_MODEL, KERNEL_FASTMATH, REFCOUNT
 from .deflection import smoothed_deflection
 from .high_speed import forget_warm, spinning_balls, standing_still, take_linearised, warm_scratch  # noqa: F401
 from .roots import ninth_root
-from .status import BALL_LINEARISED, BALL_UNSETTLED, BEYOND_VALIDITY, CONTACT_REVERSED
+from ..status import BALL_LINEARISED, BALL_UNSETTLED, BEYOND_VALIDITY, CONTACT_REVERSED
 from .trig import atan2
 
 #: The running sums of f (5) and the 14 independent Kb entries, at zero.

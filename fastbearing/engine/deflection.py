@@ -11,7 +11,7 @@ import math
 
 from numba import njit
 
-from .config import ERROR_MODEL, KERNEL_FASTMATH
+from ..config import ERROR_MODEL, KERNEL_FASTMATH
 
 
 @njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)

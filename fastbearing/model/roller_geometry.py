@@ -15,7 +15,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
-from . import validate
+from .. import validate
 from .bearing import Bearing
 from .geometry import MATERIALS, STEEL, Material, reduced_modulus
 from .rollers import CROWNS, MAX_ROLLERS, MAX_SLICES, PRELOAD_APPROACH_LIMIT, ROLLER_ELEMENTS, radial_clearance_floor

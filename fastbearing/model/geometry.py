@@ -50,7 +50,9 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from . import schema, validate
+from ..engine import schema
+
+from .. import validate
 from .bearing import PRELOAD_DEFLECTION_LIMIT, Bearing, _check_finite, free_contact_angle
 
 ELLIPTICITY_METHODS = ("exact", "hamrock-brewe")

@@ -13,11 +13,11 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
-from . import high_speed as hs
-from . import schema
-from .api import _as_vector, ball_loads, speed_ball_set
-from .bearing import COS_PSI, EXPONENT, KN, SIN_PSI, Bearing, check_speed
-from .geometry import HertzContact
+from ..engine import high_speed as hs
+from ..engine import schema
+from ..api import _as_vector, ball_loads, speed_ball_set
+from ..model.bearing import COS_PSI, EXPONENT, KN, SIN_PSI, Bearing, check_speed
+from ..model.geometry import HertzContact
 
 
 @dataclass(frozen=True)
@@ -123,7 +123,7 @@ def slice_loads(bearing: Bearing, q) -> tuple[np.ndarray, list[np.ndarray]]:
     """Every roller's total load (N, by element after the balls) and each roller row's slice loads as a
     (Z, slices) array (N), at displacement q (mm, rad): one evaluation of the one kernel with its
     per-slice record."""
-    from .kernel import ball_loop
+    from ..engine.kernel import ball_loop
 
     slices = bearing.slice_table()
     n_el, n_sl = bearing.n_elements, slices.shape[1]
@@ -144,7 +144,7 @@ def roller_contacts(bearing: Bearing, q) -> RollerContacts:
     R)) with R the reduced radius in the rolling direction, Dw (1 - g)/2 at the inner and Dw (1 + g)/2 at
     the outer raceway (g = Dw cos a / dm; Harris & Kotzalas, Essential Concepts, ch. 6).
     """
-    from .api import _as_vector, _check_bearing
+    from ..api import _as_vector, _check_bearing
 
     bearing = _check_bearing(bearing)
     q = _as_vector(q, "q", "dx, dy, dz in mm; bx, by in rad")

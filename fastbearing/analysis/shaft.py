@@ -19,10 +19,10 @@ from pathlib import Path
 
 import numpy as np
 
-from .api import SolveResult, solve, stiffness
-from . import validate
-from .bearing import Bearing, check_speed, check_speed_model
-from .bearing_file import bearing_from_table, load_bearing, read_toml
+from ..api import SolveResult, solve, stiffness
+from .. import validate
+from ..model.bearing import Bearing, check_speed, check_speed_model
+from ..model.bearing_file import bearing_from_table, load_bearing, read_toml
 
 
 def transfer(d: float) -> np.ndarray:

@@ -11,7 +11,7 @@ from llvmlite import ir
 from numba import njit, types
 from numba.extending import intrinsic
 
-from .config import ERROR_MODEL, KERNEL_FASTMATH
+from ..config import ERROR_MODEL, KERNEL_FASTMATH
 
 
 @intrinsic

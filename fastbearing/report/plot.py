@@ -31,9 +31,9 @@ from pathlib import Path
 
 import numpy as np
 
-from . import status as st
-from .dofs import DISPLACEMENT_NAMES, DISPLACEMENT_UNITS, DOF_LABELS as DOF, LOAD_NAMES, LOAD_UNITS, k_entry_units
-from .files import publish, refuse_overwrite
+from .. import status as st
+from ..dofs import DISPLACEMENT_NAMES, DISPLACEMENT_UNITS, DOF_LABELS as DOF, LOAD_NAMES, LOAD_UNITS, k_entry_units
+from ..files import publish, refuse_overwrite
 
 FORMATS = (".png", ".svg", ".pdf")
 #: Default picture size in pixels (width, height) and resolution.
@@ -253,7 +253,7 @@ def _dataset(source, kind: str):
         path = Path(source)
         if not path.exists():
             raise ValueError(f"{path}: file not found")
-        from .loadmap import open_dataset
+        from ..jobs.loadmap import open_dataset
 
         ds, opened = open_dataset(path), True  # ValueError if it is not a finished fastbearing file
     try:
@@ -683,7 +683,7 @@ def plot_load_zone(bearing, q, *, title: str | None = None, out=None, overwrite:
     """
     from matplotlib.ticker import MaxNLocator
 
-    from .contacts import ball_contacts
+    from ..analysis.contacts import ball_contacts
 
     if out is not None:
         check_output(out, overwrite)

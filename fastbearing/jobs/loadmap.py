@@ -15,15 +15,19 @@ from pathlib import Path
 
 import numpy as np
 
-from . import jobs, storage, validate
-from .api import solver_settings
-from .bearing import Bearing, check_speed, check_speed_model
-from .bearing_file import read_job_config
-from .dofs import AXES, UNITS
+from . import runner as jobs
+
+from . import storage
+
+from .. import validate
+from ..api import solver_settings
+from ..model.bearing import Bearing, check_speed, check_speed_model
+from ..model.bearing_file import read_job_config
+from ..dofs import AXES, UNITS
 from .grid import Axis, CaseSet, parse_axis, read_case_file, segment_starts
-from .jobs import open_dataset  # noqa: F401 (public: fb.open_dataset)
-from .life import LifeSettings, life_table, ratings
-from .sweep import map_sweep
+from .runner import open_dataset  # noqa: F401 (public: fb.open_dataset)
+from ..analysis.life import LifeSettings, life_table, ratings
+from ..engine.sweep import map_sweep
 
 DEFAULT_CHUNK = 65536
 #: Largest block: one block's results are in memory at once (about 400 bytes a case).
@@ -172,7 +176,7 @@ def job(cfg: LoadMapConfig) -> jobs.Job:
                         cfg.cases.max_speed > 0),
         settings=settings, method=cfg.method, chunk=cfg.chunk, text=cfg.text, source=cfg.source,
         fingerprint=cfg.fingerprint, compression=cfg.compression, line_length=cfg.cases.line_length,
-        kernel="sweep.map_sweep")
+        kernel="engine.sweep.map_sweep")
 
 
 def loadmap(config, output=None, *, threads=None, resume=False, overwrite=False, progress=None,

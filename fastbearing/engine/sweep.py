@@ -11,14 +11,14 @@ import numpy as np
 from numba import njit, prange, types
 from numba.extending import intrinsic, overload
 
-from .config import CACHE, ERROR_MODEL, REFCOUNT
+from ..config import CACHE, ERROR_MODEL, REFCOUNT
 from .kernel import ball_loop, forget_warm, slice_count, warm_scratch
 from .linalg import stiffness_solve
 from .roots import cube_root
 from .schema import (LIFE_CE, LIFE_CI, LIFE_FIRST, LIFE_INNER, LIFE_SLICES, LIFE_X0, LIFE_Y0, LIFE_Z,
                      ElementSet)
 from .solver import WORK_ROWS, solve_case, with_warnings
-from .status import BALL_UNSETTLED, CONVERGED, NONFINITE_RESULT, OUTCOME_MASK, UNLOADED
+from ..status import BALL_UNSETTLED, CONVERGED, NONFINITE_RESULT, OUTCOME_MASK, UNLOADED
 
 
 @intrinsic

@@ -24,10 +24,10 @@ from pathlib import Path
 import numpy as np
 
 from . import plot
-from .api import SolveResult, solve, solve_many, stiffness, stiffness_many
-from .bearing import Bearing
-from .files import OutputExists, publish_text
-from .shaft import transfer
+from ..api import SolveResult, solve, solve_many, stiffness, stiffness_many
+from ..model.bearing import Bearing
+from ..files import OutputExists, publish_text
+from ..analysis.shaft import transfer
 
 CITATION = ("A. Gunduz, R. Singh, Stiffness matrix formulation for double row angular contact ball bearings: "
             "analytical development and validation, J. Sound Vib. 332 (2013) 5898-5916")
@@ -326,7 +326,7 @@ def fig12(a0, K):
 
 def _passage(folder: Path, name: str, arrangement: str, points, positions: int, **overrides):
     """A ball-passage table of the paper's bearing (fastbearing.passage), opened as a Dataset."""
-    from .passage import passage
+    from ..jobs.passage import passage
 
     config = {"bearing": {"preset": "gunduz2013", "arrangement": arrangement, **overrides},
               "passage": {"points": [list(map(float, p)) for p in points], "positions": positions}}

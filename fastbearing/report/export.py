@@ -15,10 +15,10 @@ from pathlib import Path
 
 import numpy as np
 
-from .dofs import AXES, k_entry_units
-from .dofs import DOF_LABELS as DOF
-from .files import publish as _publish
-from .files import refuse_overwrite
+from ..dofs import AXES, k_entry_units
+from ..dofs import DOF_LABELS as DOF
+from ..files import publish as _publish
+from ..files import refuse_overwrite
 
 UNITS = "N/mm among x, y, z; N*mm/rad among tx, ty; N/rad between translations and tilts"
 FORMATS = ("csv", "json", "npz", "dmig", "ross")
@@ -101,7 +101,7 @@ def read_source(path, case: int | None = None, at: dict | None = None) -> Source
         return Source(K, [status], {k: body[k] for k in ("q", "f", "status") if k in body})
     if suffix not in (".h5", ".hdf5"):
         raise ValueError(f"SOURCE must be a .json or .h5 file, got {path.name!r}")
-    from .storage import COMPLETE, ResultFile
+    from ..jobs.storage import COMPLETE, ResultFile
 
     with ResultFile(path) as rf:
         if int(rf.file_attrs.get(COMPLETE, 0)) != 1:
@@ -124,7 +124,7 @@ def read_source(path, case: int | None = None, at: dict | None = None) -> Source
             coords = {k: (v[case:case + 1], u) for k, (v, u) in coords.items()}
         else:
             K = rf.read("K").reshape(-1, 5, 5)
-    from . import status as st
+    from .. import status as st
 
     return Source(np.asarray(K, dtype=float), [st.describe(int(c)) for c in codes], {}, coords, picked)
 

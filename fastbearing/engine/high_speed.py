@@ -39,7 +39,7 @@ import numpy as np
 from numba import njit, types
 from numba.extending import overload
 
-from .config import CACHE, ERROR_MODEL, KERNEL_FASTMATH, REFCOUNT
+from ..config import CACHE, ERROR_MODEL, KERNEL_FASTMATH, REFCOUNT
 from .deflection import deflection
 from .roots import cube_root
 from .schema import (AXIAL_OFFSET, BS_CI, BS_CO, BS_DI, BS_DO, BS_FB_RR, BS_FB_RZ, BS_FB_ZR, BS_FB_ZZ, BS_FC, BS_FR,

@@ -8,8 +8,8 @@ from __future__ import annotations
 
 import math
 
-from .bearing import check_speed_model, speed_limit
-from .geometry import load_centre_spread
+from ..model.bearing import check_speed_model, speed_limit
+from ..model.geometry import load_centre_spread
 
 
 def bearing_report(bearing) -> dict:

@@ -17,9 +17,9 @@ from importlib import resources
 
 import numpy as np
 
-from . import validate
+from .. import validate
 # the ball table's layout, re-exported where the table is built
-from .schema import (A0, AXIAL_OFFSET, BALL_OF, COS_NOMINAL, COS_PSI, DEFLECTION_LIMIT, DIRECTION, EXPONENT,  # noqa: F401
+from ..engine.schema import (A0, AXIAL_OFFSET, BALL_OF, COS_NOMINAL, COS_PSI, DEFLECTION_LIMIT, DIRECTION, EXPONENT,  # noqa: F401
                      GAMMA, GAP2, HALF_COUNT, KN, MASS_RADIUS, MIRROR_HALF, MIRROR_OF, N_BALL_COLUMNS, N_BALL_FIELDS,
                      N_SPEED_COLUMNS, OUTER_ROTATES, PITCH_RADIUS, ROW, SHARE, SIN_PSI, UR0, UZ0, WEIGHT,
                      ElementSet)
@@ -537,7 +537,7 @@ class Bearing:
             return self.ball_set(cage_angle, speed)._replace(balls=without_mirror_half(self.ball_table(cage_angle)))
         if speed is None:
             return ElementSet(self.ball_table(cage_angle), self.ball_exponents, 0.0, slices, None, 0.0, None)
-        from .high_speed import new_warm
+        from ..engine.high_speed import new_warm
 
         return ElementSet(self.ball_table(cage_angle), self.ball_exponents, 0.0, slices, self.speed_table,
                           rpm_to_rad_s(speed), new_warm(self.n_balls))

@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from . import validate
+from .. import validate
 
 #: Most values one axis may have, and most cases one map may have (about 3.5 TB of results): a bigger
 #: map is refused before anything is allocated; split it into several maps.
