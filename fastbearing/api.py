@@ -185,9 +185,10 @@ def direct(bearing: Bearing, q, speed=0.0) -> tuple[np.ndarray, np.ndarray, int]
     f = np.empty(5)
     K = np.empty((5, 5))
     _, _, warnings = ball_loop(q, balls, f, K, None, None)
+    if warnings & st.BALL_UNSETTLED:  # said before any overflow: an unsettled ball may leave Kb non-finite
+        return f, K, st.BALL_EQUILIBRIUM | (warnings & st.WARNING_MASK)
     _check_finite_result(f, K, "q")
-    outcome = st.BALL_EQUILIBRIUM if warnings & st.BALL_UNSETTLED else st.CONVERGED
-    return f, K, outcome | (warnings & st.WARNING_MASK)
+    return f, K, st.CONVERGED | (warnings & st.WARNING_MASK)
 
 
 def speed_ball_set(bearing: Bearing, speed) -> tuple:
@@ -259,7 +260,7 @@ def solve(bearing: Bearing, f, q0=None, method: str = "newton", rtol=None, max_i
         Iterations per attempt.
     speed : float
         Shaft speed in rpm, >= 0 (default 0: the quasi-static model). Above 0 every ball is held in
-        equilibrium under its centrifugal force and gyroscopic moment (fastbearing.high_speed; the
+        equilibrium under its centrifugal force and gyroscopic moment (fastbearing.engine.high_speed; the
         bearing needs its geometry), and Kb is the exact derivative with the balls re-settled: not
         symmetric in general.
 
@@ -434,11 +435,11 @@ def stiffness_many(bearing: Bearing, q, threads=None, speed=0.0) -> tuple[np.nda
     unsettled = np.zeros(n, dtype=np.bool_)
     with num_threads(threads):
         stiffness_sweep(q, f, K, balls, speeds, config.SWEEP_BLOCK, unsettled)
-    _check_finite_result(f, K, "q")
-    if unsettled.any():
+    if unsettled.any():  # said before any overflow: an unsettled ball may leave Kb non-finite
         i = int(np.flatnonzero(unsettled)[0])
         raise ValueError(f"q (case {i}): at {float(np.broadcast_to(speed, (n,))[i]):g} rpm some balls have no "
                          "equilibrium of their own at this displacement (status ball_equilibrium), so f and Kb "
                          "there are not the model's; a displacement-given load map flags such cases instead")
+    _check_finite_result(f, K, "q")
     return f, K
 

@@ -611,6 +611,20 @@ def test_a_life_map_at_speed_takes_each_ring_s_own_contacts(tmp_path):
         assert not np.allclose(L10r[:half], L10r[half:])  # the speed changed the lives
 
 
+def test_a_life_map_at_a_standing_still_speed_is_the_life_at_rest(tmp_path):
+    """Below the standing-still speed (about 1e-3 rpm here) the balls are at rest: the map's lives equal the
+    0 rpm ones, read from a record whose outer contacts the kernel fills too (they were left unwritten)."""
+    cfg = _spindle_config(speed=[0.0, 1e-4, 2e-4], Fx=[300.0, 1500.0], Fz=[200.0, 1500.0], life={})
+    ds = fb.open_dataset(fb.loadmap(cfg, tmp_path / "still.h5", progress=False))
+    L10r = ds["L10r"].values.reshape(3, -1)
+    assert np.isfinite(L10r).all()
+    np.testing.assert_allclose(L10r[1], L10r[0], rtol=1e-12)
+    np.testing.assert_allclose(L10r[2], L10r[0], rtol=1e-12)
+    c = ball_contacts(SPINDLE, ds["q"].values.reshape(3, -1, 5)[1, 0], speed=1e-4)
+    np.testing.assert_allclose(c.inner_load, c.outer_load, rtol=1e-12)  # standing still, as the kernel took it
+    assert np.all(c.centrifugal_force == 0.0)
+
+
 def test_solve_on_the_command_line_at_speed_reports_every_ball(tmp_path):
     import json
 

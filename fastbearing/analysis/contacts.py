@@ -3,7 +3,7 @@
 Above the API: it reads the ball loads from :func:`fastbearing.ball_loads`
 (the one ball loop) and, for a bearing with catalogue geometry, evaluates
 each loaded ball's inner and outer race contact with
-:mod:`fastbearing.geometry`. Units: N, mm, rad; pressures in N/mm^2.
+:mod:`fastbearing.model.geometry`. Units: N, mm, rad; pressures in N/mm^2.
 """
 
 from __future__ import annotations
@@ -192,7 +192,7 @@ def ball_contacts(bearing: Bearing, q, speed=0.0) -> BallContacts:
         (dx, dy, dz, bx, by) in mm and rad, e.g. ``solve(bearing, f).q``.
     speed : float
         Shaft speed in rpm (>= 0); above 0 each ball's two contacts, centrifugal force and gyroscopic
-        moment are reported too (fastbearing.high_speed), and each race's Hertz contact uses its own
+        moment are reported too (fastbearing.engine.high_speed), and each race's Hertz contact uses its own
         load and angle.
 
     Returns
@@ -244,6 +244,8 @@ def _spinning_contacts(bearing: Bearing, q, speed) -> BallContacts:
     states = np.empty((n, schema.N_STATE))
     Q = np.empty(n)
     alpha = np.empty(n)
+    if hs.standing_still(speed_table, omega):  # as the kernel takes it: the balls at rest (no F_c, no M_g)
+        omega = 0.0
     hs.spinning_balls(q, table, speed_table, omega, 0.0, np.empty(5), None, Q, alpha, states, hs.new_warm(n))
     Qo = states[:, schema.STATE_OUTER_LOAD]
     geometry = bearing.geometry

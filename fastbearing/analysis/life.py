@@ -319,7 +319,7 @@ class LifeSettings:
     balls_at_speed : bool
         The displacement was solved with the high-speed model at ``speed`` (solve --speed): the races'
         ball loads then differ, and each ring's equivalent load comes from its own contacts (inner Q_i,
-        outer Q_o, fastbearing.high_speed).
+        outer Q_o, fastbearing.engine.high_speed).
     """
 
     rotating: str = "inner"

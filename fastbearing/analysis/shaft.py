@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..api import SolveResult, solve, stiffness
+from ..api import SolveResult, direct, solve
 from .. import validate
 from ..model.bearing import Bearing, check_speed, check_speed_model
 from ..model.bearing_file import bearing_from_table, load_bearing, read_toml
@@ -181,7 +181,7 @@ def solve_shaft(shaft: Shaft, method: str = "newton", speed: float | None = None
     puts on its inner ring, about the bearing's centre; the reactions,
     carried to the reference, add up to the external load. ``speed`` (rpm;
     default the shaft's own) above 0 runs every bearing's balls at that speed
-    (fastbearing.high_speed; K_system is then not quite symmetric).
+    (fastbearing.engine.high_speed; K_system is then not quite symmetric).
     """
     speed = shaft.speed if speed is None else check_speed(speed, "speed")
     if speed > 0:
@@ -191,7 +191,8 @@ def solve_shaft(shaft: Shaft, method: str = "newton", speed: float | None = None
     states = []
     for mb in shaft.bearings:
         q_local = transfer(mb.position - shaft.reference) @ result.q
-        f, K = stiffness(mb.bearing, q_local, speed=speed)
+        # direct, not stiffness: a solve that did not converge still returns its last iterate, with its status
+        f, K, _ = direct(mb.bearing, q_local, speed=speed)
         states.append(BearingState(mb.position, q_local, f, K))
     return ShaftResult(result, result.K, tuple(states), shaft.reference, speed)
 

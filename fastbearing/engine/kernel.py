@@ -260,13 +260,33 @@ def _ball_rows(q, table, exponent, smoothing, speed_table, omega, warm, f, K, ba
     def at_speed(q, table, exponent, smoothing, speed_table, omega, warm, f, K, ball_load, contact_angle):
         if omega == 0.0 or standing_still(speed_table, omega):  # the quasi-static balls exactly (below
             # high_speed.STILL_DEFLECTION the centrifugal force is far below the solver's resolution)
-            return quasi_static_balls(q, table, exponent, smoothing, f, K, ball_load, contact_angle)
+            out = quasi_static_balls(q, table, exponent, smoothing, f, K, ball_load, contact_angle)
+            _outer_record_at_rest(table.shape[1], ball_load, contact_angle)
+            return out
         total, n_loaded, flags = spinning_balls(q, table, speed_table, omega, smoothing_eps(smoothing), f, K,
                                                 ball_load, contact_angle, None, warm)
         warnings = ((CONTACT_REVERSED if flags & 1 else 0) | (BEYOND_VALIDITY if flags & 2 else 0)
                     | (BALL_UNSETTLED if flags & 4 else 0) | (BALL_LINEARISED if flags & 8 else 0))
         return total, n_loaded, warnings
     return at_speed
+
+
+def _outer_record_at_rest(n, ball_load, contact_angle):
+    """In a record with room for the outer contacts (2 n entries: a life map at speed reads them), the balls
+    standing still put each outer contact's load and angle beside the inner one's, which they equal."""
+
+
+@overload(_outer_record_at_rest)
+def _outer_record_at_rest_impl(n, ball_load, contact_angle):
+    if isinstance(ball_load, types.NoneType):
+        return lambda n, ball_load, contact_angle: None
+
+    def copy(n, ball_load, contact_angle):
+        if ball_load.shape[0] >= 2 * n:
+            for j in range(n):
+                ball_load[n + j] = ball_load[j]
+                contact_angle[n + j] = contact_angle[j]
+    return copy
 
 
 def smoothing_eps(smoothing):

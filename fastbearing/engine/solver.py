@@ -476,7 +476,7 @@ def _minimise_energy(f_target, q, f, K, balls, settings, tol, arm, reach, D, wor
 def _smoothing_continuation(f_target, q, f, K, balls, settings, tol, arm, reach, D, work):
     """The fallback: :func:`_minimise_energy` with the contact law smoothed, eps -> 0.
 
-    With every ball carrying a little load (:func:`fastbearing.kernel.clamped_deflection`)
+    With every ball carrying a little load (:func:`fastbearing.engine.kernel.clamped_deflection`)
     the energy is smooth and strictly convex, so Newton goes straight to its
     minimum; each smaller eps starts from the last solution, and the exact
     contact law from the smallest. Returns what :func:`_minimise_energy`
@@ -554,7 +554,7 @@ def solve_case(f_target, q, f, K, balls, settings, warm, work, ball_load, contac
         Scratch.
     ball_load, contact_angle : (n_balls,) float64 or None, out
         Per-ball load (N) and contact angle (rad) at the returned q, as in
-        :func:`fastbearing.kernel.ball_loop`; None skips recording.
+        :func:`fastbearing.engine.kernel.ball_loop`; None skips recording.
 
     Returns
     -------

@@ -201,7 +201,7 @@ def loadmap(config, output=None, *, threads=None, resume=False, overwrite=False,
     as_dataset : bool
         Return an ``xarray.Dataset`` (needs xarray and h5netcdf) instead of the path.
     client : dask.distributed.Client, optional
-        Run the blocks on a Dask cluster (see :mod:`fastbearing.distributed`);
+        Run the blocks on a Dask cluster (see :mod:`fastbearing.jobs.distributed`);
         the output is identical to a local run.
     max_in_flight : int, optional
         Blocks out on the cluster at once (default: 2 per worker thread).

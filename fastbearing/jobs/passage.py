@@ -71,7 +71,7 @@ class PassageConfig:
     text: str
     source: Path | None
     fingerprint: str
-    model_speed: float = 0.0  # rpm: above 0 the high-speed balls (fastbearing.high_speed)
+    model_speed: float = 0.0  # rpm: above 0 the high-speed balls (fastbearing.engine.high_speed)
 
     @property
     def period_order(self) -> int:

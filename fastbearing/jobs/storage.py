@@ -94,7 +94,7 @@ def result_variables(given: str, inner: tuple[str, ...] = ()) -> list[Variable]:
 
 
 def life_variables() -> list[Variable]:
-    """The rating-life variables of a map with ``life = true`` (fastbearing.life)."""
+    """The rating-life variables of a map with ``life = true`` (fastbearing.analysis.life)."""
     V = _inner_variable(())
     return [
         V("L10r", (), "f8", "million revolutions",
@@ -359,7 +359,10 @@ class ResultFile:
         return _decoded(self._fh[name].attrs)
 
     def read(self, name: str, index=()) -> np.ndarray:
-        return self._fh[name][index]
+        try:
+            return self._fh[name][index]
+        except OSError:
+            raise ValueError(f"{self.path}: {name} cannot be read (a damaged HDF5 file?)") from None
 
 
 def _decoded(attrs) -> dict:

@@ -528,7 +528,7 @@ class Bearing:
         table, omega, warm starts.
         ``speed`` (rpm) None: no speed table, the quasi-static model; a number (0 included): the
         high-speed constants, omega in rad/s and a fresh scratch for the balls' warm starts
-        (fastbearing.high_speed; at 0 rpm the kernel takes the quasi-static loop). A ball set at speed
+        (fastbearing.engine.high_speed; at 0 rpm the kernel takes the quasi-static loop). A ball set at speed
         belongs to one thread. ``mirror`` False switches the mirror half off (:func:`without_mirror_half`):
         what a per-element feature kept outside the table must ask for."""
         # no roller rows: None, so that the kernels compile no roller code for a ball bearing

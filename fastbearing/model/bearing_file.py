@@ -4,7 +4,7 @@ The ``[bearing]`` table is the public format: either the compact form
 (``arrangement`` plus the row keys shared by all rows) or a general set of
 ``[[bearing.rows]]``. ``preset = "NAME"`` starts from a shipped bearing and
 any other key overrides it. A ``[bearing.geometry]`` sub-table defines the
-rows from catalogue geometry instead (:mod:`fastbearing.geometry`).
+rows from catalogue geometry instead (:mod:`fastbearing.model.geometry`).
 """
 
 from __future__ import annotations

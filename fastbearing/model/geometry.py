@@ -365,7 +365,7 @@ class Geometry:
         The catalogue's C and C0 of the bearing as listed, N (> 0): a single row's, or a double row's
         (DB, DF, DT) as a unit, whose rows then get C / 2^0.7 and C0 / 2 (ISO 281, ISO 76); for rows of
         your own (``rows``), each row's. None: ISO 281 / ISO 76 from this geometry
-        (:mod:`fastbearing.life`).
+        (:mod:`fastbearing.analysis.life`).
 
     Notes
     -----
