@@ -301,36 +301,11 @@ def solve(bearing: Bearing, f, q0=None, method: str = "newton", rtol=None, max_i
 
 
 def no_solution_note(bearing: Bearing, load, status: int, speed: float = 0.0) -> str:
-    """Why a load has no solution in the model, in one line, where the cause is known ("" otherwise).
-
-    - A set of tapered roller rows all facing one way (a single row, a tandem) turns a radial load Fr into an
-      axial one through its fixed contact normal, so it holds Fr only with an axial load of at least
-      Fr tan(a) on its contact side (a ball row can let its balls roll to 0 deg instead).
-    - Inner-race control at speed: the inner race's friction, which carries the gyroscopic moment, does not
-      fall with the inner contact's load, so f jumps where balls leave the inner race (docs/model.md, "High
-      speed"); a load inside the jump has no solution.
-    """
+    """Why a load that did not solve has no solution in the model, in one line, where the bearing's element
+    kinds know the cause (:meth:`Bearing.no_solution_note`); "" for a converged case or an unknown cause."""
     if st.outcome(status) not in (st.SINGULAR, st.STALLED, st.ITERATION_LIMIT):
         return ""
-    if speed > 0 and bearing.ball_rows and getattr(bearing.geometry, "race_control", "outer") == "inner":
-        return (f"no solution found: under inner-race control at {float(speed):g} rpm the inner race's friction, "
-                "which carries the gyroscopic moment, does not fall with the inner contact load, so f jumps where "
-                "balls leave the inner race, and this load may lie in that jump; outer-race control (the default) "
-                "has no such jump")
-    rows = [r for _, r in bearing.roller_rows]
-    directions = {r.contact_direction for r in rows}
-    if bearing.ball_rows or not rows or len(directions) != 1 or min(r.contact_angle for r in rows) <= 0.0:
-        return ""
-    s = directions.pop()
-    Fr = float(np.hypot(load[0], load[1]))
-    need = Fr * float(np.tan(np.radians(min(r.contact_angle for r in rows))))
-    if Fr == 0.0 or s * load[2] >= need:
-        return ""
-    side = "+z" if s > 0 else "-z"
-    return (f"no solution: a tapered roller row's fixed contact normal turns the radial load Fr = {Fr:g} N into an "
-            f"axial one, so it holds Fr only with an axial load of at least Fr tan(a) = {need:g} N on its contact "
-            f"side ({side}); Fz = {float(load[2]):g} N. Give the axial load the mounting carries (the other "
-            "bearing's reaction), or hold the axial displacement: solve --displacement")
+    return bearing.no_solution_note(load, speed)
 
 
 def check_threads(n):

@@ -24,7 +24,7 @@ from ..engine.schema import (A0, AXIAL_OFFSET, BALL_OF, COS_NOMINAL, COS_PSI, DE
                      N_SPEED_COLUMNS, OUTER_ROTATES, PITCH_RADIUS, ROW, SHARE, SIN_PSI, UR0, UZ0, WEIGHT,
                      ElementSet)
 from .rollers import (N_SLICE_COLUMNS, REQUIRED_ROLLER_KEYS, ROLLER_ELEMENTS, ROLLER_KEYS, RollerRow,
-                      slice_table)
+                      radial_load_note, slice_table)
 
 ARRANGEMENTS = ("single", "DB", "DF", "DT", "TDO", "TDI")
 #: Tapered-roller names of the double-row arrangements: TDO back to back (as DB), TDI face to face (as DF).
@@ -515,6 +515,19 @@ class Bearing:
         if cage_angle == 0.0:
             return self._ball_table_at_rest
         return self._build_ball_table(cage_angle)
+
+    def no_solution_note(self, load, speed: float = 0.0) -> str:
+        """Why ``load`` (N, N*mm) at ``speed`` (rpm) may have no solution, in one line, as the element kinds
+        know it ("" where none does): the high-speed balls' race control (the geometry's
+        :meth:`~fastbearing.model.geometry.Geometry.no_solution_note`), tapered roller rows short of axial
+        load (:func:`fastbearing.model.rollers.radial_load_note`)."""
+        if speed > 0 and self.ball_rows and hasattr(self.geometry, "no_solution_note"):
+            note = self.geometry.no_solution_note(speed)
+            if note:
+                return note
+        if self.ball_rows:  # balls can roll to 0 deg and carry a radial load alone
+            return ""
+        return radial_load_note([r for _, r in self.roller_rows], load)
 
     @property
     def mirror_symmetric(self) -> bool:

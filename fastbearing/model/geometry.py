@@ -551,6 +551,18 @@ class Geometry:
         c[schema.COS_NOMINAL] = math.cos(math.radians(contact_angle))
         return c
 
+    def no_solution_note(self, speed: float) -> str:
+        """Why a load at ``speed`` (rpm) may have no solution under this geometry's race control ("" if
+        nothing is known): under inner-race control the inner friction carrying the gyroscopic moment does
+        not fall with the inner contact's load, so f jumps where balls leave the inner race (docs/model.md,
+        "High speed")."""
+        if self.race_control != "inner":
+            return ""
+        return (f"no solution found: under inner-race control at {float(speed):g} rpm the inner race's friction, "
+                "which carries the gyroscopic moment, does not fall with the inner contact load, so f jumps where "
+                "balls leave the inner race, and this load may lie in that jump; outer-race control (the default) "
+                "has no such jump")
+
     def row_keywords(self) -> dict:
         """The :class:`fastbearing.Row` keywords this geometry fixes (angles in degrees, as Row takes them)."""
         return dict(n_balls=self.n_balls, hertz_constant=self.hertz_constant, pitch_radius=self.pitch_radius,

@@ -242,6 +242,25 @@ class RollerRow:
         return np.zeros_like(x)
 
 
+def radial_load_note(rows, load) -> str:
+    """Why roller rows ``rows`` may not hold ``load`` (N, N*mm), in one line ("" if they may): tapered rows all
+    facing one way (a single row, a tandem) turn a radial load Fr into an axial one through their fixed
+    contact normal, so they hold Fr only with an axial load of at least Fr tan(a) on their contact side."""
+    directions = {r.contact_direction for r in rows}
+    if not rows or len(directions) != 1 or min(r.contact_angle for r in rows) <= 0.0:
+        return ""
+    s = directions.pop()
+    Fr = float(math.hypot(load[0], load[1]))
+    need = Fr * math.tan(math.radians(min(r.contact_angle for r in rows)))
+    if Fr == 0.0 or s * load[2] >= need:
+        return ""
+    side = "+z" if s > 0 else "-z"
+    return (f"no solution: a tapered roller row's fixed contact normal turns the radial load Fr = {Fr:g} N into an "
+            f"axial one, so it holds Fr only with an axial load of at least Fr tan(a) = {need:g} N on its contact "
+            f"side ({side}); Fz = {float(load[2]):g} N. Give the axial load the mounting carries (the other "
+            "bearing's reaction), or hold the axial displacement: solve --displacement")
+
+
 def radial_clearance_floor(contact_angle: float, limit: float, axial_preload: float = 0.0) -> float:
     """The smallest radial clearance rL in mm (most interference) that keeps d0 sin(a) - rL cos(a) <= limit
     (mm), a in degrees."""
