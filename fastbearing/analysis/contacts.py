@@ -15,6 +15,7 @@ import numpy as np
 
 from ..engine import high_speed as hs
 from ..engine import schema
+from ..engine.kernel import balls_at_speed
 from ..api import _as_vector, ball_loads, speed_ball_set
 from ..model.bearing import COS_PSI, EXPONENT, KN, SIN_PSI, Bearing, check_speed
 from ..model.geometry import HertzContact
@@ -246,7 +247,7 @@ def _spinning_contacts(bearing: Bearing, q, speed) -> BallContacts:
     alpha = np.empty(n)
     if hs.standing_still(speed_table, omega):  # as the kernel takes it: the balls at rest (no F_c, no M_g)
         omega = 0.0
-    hs.spinning_balls(q, table, speed_table, omega, 0.0, np.empty(5), None, Q, alpha, states, hs.new_warm(n))
+    balls_at_speed(q, table, speed_table, omega, 0.0, np.empty(5), None, Q, alpha, states, hs.new_warm(n))
     Qo = states[:, schema.STATE_OUTER_LOAD]
     geometry = bearing.geometry
     # each contact's deflection from its own load and Hertz constant

@@ -48,7 +48,7 @@ from .schema import (AXIAL_OFFSET, BS_CI, BS_CO, BS_DI, BS_DO, BS_FB_RR, BS_FB_R
                      BS_QI, BS_QO, BS_SI, BS_SO, BS_WM, CHUNK, COS_NOMINAL, COS_PSI, DEFLECTION_LIMIT, DIAMETER,
                      DIRECTION, GAMMA, INERTIA, INNER_ARM, INNER_CONTROL, INNER_RADIUS, K_INNER, K_OUTER,
                      LAMBDA_INNER, LAMBDA_OUTER, MASS_RADIUS, N_SUMMARY, N_WARM,
-                     OUTER_RADIUS, OUTER_ROTATES, OUTER_SHARE, PITCH_RADIUS, SIN_PSI, SM_BR, SM_BZ, SM_CI, SM_CO,
+                     OUTER_RADIUS, OUTER_ROTATES, OUTER_SHARE, PARTNER, PITCH_RADIUS, SIN_PSI, SM_BR, SM_BZ, SM_CI, SM_CO,
                      SM_DBR, SM_DBZ, SM_DI, SM_DO, SM_EXACT, SM_FC, SM_FR, SM_FZ, SM_GR, SM_GZ, SM_K00, SM_K01,
                      SM_K10, SM_K11, SM_LOADED, SM_M, SM_M0, SM_M1, SM_MG, SM_QI, SM_QO, SM_SI, SM_SO, SM_UR, SM_UZ,
                      SM_VERDICT, SM_WM, SM_X00, SM_X01, SM_X10, SM_X11, STATE_CENTRIFUGAL, STATE_GYROSCOPIC,
@@ -666,7 +666,7 @@ _NO_SUMS = ((0.0,) * 5,) * 6
 
 
 @njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
-def _ring_add(sums, sm, table, j, eps):
+def _ring_add(sums, sm, table, j, eps, ordinary):
     """``sums`` (f, then Kb's columns) plus ball j's share from its :func:`_summary`, in the bearing's
     frame (the axial components take the row's sign). An unloaded ball adds nothing (selects, not a
     branch: the loop over a chunk vectorises, and an unloaded ball's summary may hold inf or NaN)."""
@@ -675,7 +675,7 @@ def _ring_add(sums, sm, table, j, eps):
     z = table[AXIAL_OFFSET, j]
     R = table[PITCH_RADIUS, j]
     sgn = table[DIRECTION, j]
-    on = sm[SM_QI] > 0.0 or eps != 0.0
+    on = (sm[SM_QI] > 0.0 or eps != 0.0) and ordinary
     Fr = sm[SM_FR] if on else 0.0
     Fz = sgn * sm[SM_FZ] if on else 0.0
     mo = R * Fz - z * Fr + (sgn * sm[SM_M] if on else 0.0)
@@ -696,11 +696,11 @@ def _ring_add(sums, sm, table, j, eps):
 
 
 @njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
-def _ring_sums(sums, table, out, j0, m, eps):
-    """``sums`` plus the shares of balls j0 .. j0+m-1 from their summaries in the chunk ``out``: loads and
-    sums only, so that it vectorises."""
+def _ring_sums(sums, table, speed_table, out, j0, m, eps):
+    """``sums`` plus the shares of balls j0 .. j0+m-1 from their summaries in the chunk ``out`` (none from a
+    four-point ball's pairs, which engine/four_point.py adds): loads and sums only, so that it vectorises."""
     for i in range(m):
-        sums = _ring_add(sums, _read_summary(out, i)[0], table, j0 + i, eps)
+        sums = _ring_add(sums, _read_summary(out, i)[0], table, j0 + i, eps, speed_table[PARTNER, j0 + i] < 0.0)
     return sums
 
 
@@ -722,6 +722,8 @@ def _ball_pass(q, table, speed_table, omega, eps, ball_load, contact_angle, stat
         _predicted_chunk(q, table, speed_table, omega, eps, warm, out, j0, m, linearise, cold)
         for i in range(m):
             j = j0 + i
+            if speed_table[PARTNER, j] >= 0.0:  # a four-point ball's pair: engine/four_point.py settles it
+                continue
             ur, uz = out[SM_UR * CHUNK + i], out[SM_UZ * CHUNK + i]  # the pass's inner groove centre
             sm, br, bz, db_r, db_z, exact, verdict = _read_summary(out, i)
             iterations = 0
@@ -786,7 +788,7 @@ def _ball_pass(q, table, speed_table, omega, eps, ball_load, contact_angle, stat
                 states[j, STATE_ITERATIONS] = iterations
                 # the equilibrium residual relative to the ball's largest force (a free ball's on the outer race)
                 states[j, STATE_RESIDUAL] = max(abs(sm[SM_GR]), abs(sm[SM_GZ])) / max(Qi + Qo + abs(Fc), 1e-300)
-        sums = _ring_sums(sums, table, out, j0, m, eps)
+        sums = _ring_sums(sums, table, speed_table, out, j0, m, eps)
     return sums, total, n_loaded, flags
 
 

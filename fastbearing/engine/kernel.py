@@ -19,11 +19,12 @@ from numba import njit, types
 from numba.extending import overload
 
 from .schema import (A0, AXIAL_OFFSET, BALL_OF, COS_PSI, DEFLECTION_LIMIT, DIRECTION, EXPONENT, GAP2, HALF_COUNT, KN,
-                     MIRROR_HALF, MIRROR_OF, PITCH_RADIUS, SHARE, SIN_PSI, S_ANGLE, S_AXIAL,
+                     MIRROR_HALF, MIRROR_OF, PARTNER, PITCH_RADIUS, SHARE, SIN_PSI, S_ANGLE, S_AXIAL,
                      S_COS_PSI, S_COUNT, S_NORMAL_R, S_NORMAL_Z, S_OFFSET, S_POSITION, S_RADIUS, S_ROLLER, S_SCALE,
                      S_SIN_PSI, S_STIFFNESS, UR0, UZ0, WEIGHT)
 from ..config import CACHE, ERROR_MODEL, KERNEL_FASTMATH, REFCOUNT
 from .deflection import smoothed_deflection
+from .four_point import four_point_balls
 from .high_speed import forget_warm, spinning_balls, standing_still, take_linearised, warm_scratch  # noqa: F401
 from .roots import ninth_root
 from ..status import BALL_LINEARISED, BALL_UNSETTLED, BEYOND_VALIDITY, CONTACT_REVERSED
@@ -263,12 +264,37 @@ def _ball_rows(q, table, exponent, smoothing, speed_table, omega, warm, f, K, ba
             out = quasi_static_balls(q, table, exponent, smoothing, f, K, ball_load, contact_angle)
             _outer_record_at_rest(table.shape[1], ball_load, contact_angle)
             return out
-        total, n_loaded, flags = spinning_balls(q, table, speed_table, omega, smoothing_eps(smoothing), f, K,
+        total, n_loaded, flags = balls_at_speed(q, table, speed_table, omega, smoothing_eps(smoothing), f, K,
                                                 ball_load, contact_angle, None, warm)
         warnings = ((CONTACT_REVERSED if flags & 1 else 0) | (BEYOND_VALIDITY if flags & 2 else 0)
                     | (BALL_UNSETTLED if flags & 4 else 0) | (BALL_LINEARISED if flags & 8 else 0))
         return total, n_loaded, warnings
     return at_speed
+
+
+@njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
+def balls_at_speed(q, table, speed_table, omega, eps, f, K, ball_load, contact_angle, states, warm):
+    """Every ball row at shaft speed omega (rad/s): the angular contact balls (high_speed.spinning_balls, which
+    writes f and Kb), then the four-point balls (four_point.four_point_balls, which add theirs); the arguments
+    and the returns as spinning_balls'."""
+    total, n_loaded, flags = spinning_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact_angle,
+                                            states, warm)
+    if has_four_point(speed_table):
+        t, n, more = four_point_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact_angle, states,
+                                      warm)
+        total += t
+        n_loaded += n
+        flags |= more
+    return total, n_loaded, flags
+
+
+@njit(inline="always")
+def has_four_point(speed_table):
+    """Whether a ball set at speed holds four-point balls (a column with a PARTNER)."""
+    for j in range(speed_table.shape[1]):
+        if speed_table[PARTNER, j] >= 0.0:
+            return True
+    return False
 
 
 def _outer_record_at_rest(n, ball_load, contact_angle):

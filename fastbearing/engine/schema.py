@@ -52,10 +52,11 @@ N_SLICE_COLUMNS = 14
 #: for omega in rad/s); J = m D^2/10 (N*mm*s^2: M_g in N*mm); gamma' = D/d_m; the race-control factors
 #: lambda_i, lambda_o; inner control (0/1); the outer ring turning (0/1); f_i D, the inner friction's
 #: lever about the inner groove centre (mm); D (mm); the outer contact's share of the quasi-static
-#: deflection; cos a0.
+#: deflection; cos a0; PARTNER the column of the same ball's other contact pair (a four-point ball:
+#: model/four_point.py, engine/four_point.py), -1 for a ball of an ordinary row.
 (INNER_RADIUS, OUTER_RADIUS, K_INNER, K_OUTER, MASS_RADIUS, INERTIA, GAMMA, LAMBDA_INNER, LAMBDA_OUTER,
- INNER_CONTROL, OUTER_ROTATES, INNER_ARM, DIAMETER, OUTER_SHARE, COS_NOMINAL) = range(15)
-N_SPEED_COLUMNS = 15
+ INNER_CONTROL, OUTER_ROTATES, INNER_ARM, DIAMETER, OUTER_SHARE, COS_NOMINAL, PARTNER) = range(16)
+N_SPEED_COLUMNS = 16
 
 # -- a high-speed ball's state record (solve --balls at speed): row j of an (n_balls, N_STATE) array -------------
 STATE_INNER_LOAD, STATE_OUTER_LOAD, STATE_INNER_ANGLE, STATE_OUTER_ANGLE, STATE_CENTRIFUGAL, STATE_GYROSCOPIC, \

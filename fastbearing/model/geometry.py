@@ -529,7 +529,7 @@ class Geometry:
         (f_o - 1/2) D in mm; K_i, K_o in N/mm^1.5, the race contacts at a0; m d_m/2 in kg*m, so that F_c is
         in N for omega in rad/s; J = m D^2/10 in N*mm*s^2, so that M_g is in N*mm; gamma' = D/d_m; the
         race-control factors; inner control and the outer ring turning, 0/1; f_i D and D in mm; the outer
-        contact's share of the quasi-static deflection; cos a0)."""
+        contact's share of the quasi-static deflection; cos a0; PARTNER -1)."""
         D, dm = self.ball_diameter, self.pitch_diameter
         inner, outer = self.contacts(math.radians(contact_angle))
         Ki, Ko = inner.constant, outer.constant
@@ -549,6 +549,7 @@ class Geometry:
         c[schema.DIAMETER] = D
         c[schema.OUTER_SHARE] = ratio / (1.0 + ratio)
         c[schema.COS_NOMINAL] = math.cos(math.radians(contact_angle))
+        c[schema.PARTNER] = -1.0  # the bearing pairs a four-point ball's columns (Bearing.speed_table)
         return c
 
     def no_solution_note(self, speed: float) -> str:

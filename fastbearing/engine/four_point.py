@@ -1,0 +1,335 @@
+"""Four-point contact balls at shaft speed: one ball, up to four contacts (docs/model.md, "Four-point contact balls").
+
+The ball table holds a four-point row as its two contact pairs (model/four_point.py): columns j (pair +a0) and
+PARTNER j (pair -a0) are the same ball. Standing still each pair is an angular contact row (the quasi-static
+loop); at speed the ball's centre B is one point in both pairs' frames and settles under all four contacts,
+its centrifugal force F_c and gyroscopic moment M_g. In pair a's frame (its outer groove centre O_a at the
+origin, axial axis along the pair's contact direction, as high_speed.ball_state's) the contacts, loads and
+rolling kinematics are the angular contact ball's; B in pair -'s frame is (B_r, 2 r_o sin a0 - B_z), the two
+outer arcs' centres sitting 2 r_o sin a0 apart, r_o = (f_o - 1/2) D. The pairs share the ball's motion by
+their loads: with w_a = (Q_i,a + Q_o,a) / sum, the orbital speed is sum w_a omega_m,a (so F_c = m d_m/2
+omega_m^2), and pair a's races carry w_a M_g,a by its own race control. A ball whose pair - carries nothing
+is exactly the angular contact ball of pair +.
+
+f is the model's; the derivatives (the ball's Newton Jacobian and Kb, condensed over B as the angular contact
+ball's: dF/du = F_u - F_B G_B^-1 G_u) come by complex step, d y/dx = Im y(x + i h)/h with h = 1e-20 mm:
+exact to rounding, with no difference quotient to lose digits, so that the contact, kinematics and weight
+terms need no hand-written derivative. Units: mm, N, N*mm, rad, rad/s.
+"""
+
+import cmath
+import math
+
+from numba import njit, types
+from numba.extending import overload
+
+from ..config import CACHE, ERROR_MODEL, KERNEL_FASTMATH, REFCOUNT
+from .high_speed import BALL_RTOL, _ball_constants, _inner_centre, kinematics
+from .schema import (AXIAL_OFFSET, COS_NOMINAL, COS_PSI, DEFLECTION_LIMIT, DIAMETER, DIRECTION, GAMMA, INERTIA,
+                     INNER_ARM, INNER_CONTROL, INNER_RADIUS, K_INNER, K_OUTER, LAMBDA_INNER, LAMBDA_OUTER,
+                     MASS_RADIUS, N_WARM, OUTER_RADIUS, OUTER_SHARE, PARTNER, PITCH_RADIUS, SIN_PSI,
+                     STATE_CENTRIFUGAL, STATE_GYROSCOPIC, STATE_INNER_ANGLE, STATE_INNER_LOAD, STATE_ITERATIONS,
+                     STATE_ORBITAL_SPEED, STATE_OUTER_ANGLE, STATE_OUTER_LOAD, STATE_RESIDUAL, WARM_BR, WARM_BZ,
+                     WARM_VALID)
+from .trig import atan2
+
+#: The complex step (mm): far below any length of the model, far above underflow.
+STEP = 1e-20
+#: Newton iterations a four-point ball may take to settle.
+ITERATIONS = 60
+#: Halvings of a Newton step that does not lower the residual.
+HALVINGS = 40
+
+
+def root(x):
+    """sqrt of a float or of a complex (the complex step's)."""
+
+
+@overload(root, inline="always")
+def _root(x):
+    if isinstance(x, types.Complex):
+        return lambda x: cmath.sqrt(x)
+    return lambda x: math.sqrt(x)
+
+
+@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def _contact(L, r0, k, eps):
+    """(deflection, load) of a race contact at centre distance L (mm) from a groove of radius r0, Hertz
+    constant k (N/mm^1.5): delta = L - r0 clamped (or, with the solver's eps > 0, smoothed), Q = k delta^1.5.
+    The clamp reads the real part: the complex step passes through a loaded contact and stops at an open one."""
+    d = L - r0
+    if eps > 0.0:
+        delta = 0.5 * (d + root(d * d + eps * eps))
+    elif d.real > 0.0:
+        delta = d
+    else:
+        delta = 0.0 * d
+    return delta, k * delta * root(delta)
+
+
+@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def _pair(ur, uz, br, bz, p, w_i, w_o, eps):
+    """One contact pair in its frame: inner groove centre u, ball centre B (mm from the pair's outer groove
+    centre). Returns (Q_i, Q_o, ci, si, co, so, omega_m, S, delta_i, delta_o) as high_speed.ball_state
+    takes them (M_g = J (w_o - w_i)/gamma' S)."""
+    Lo = root(br * br + bz * bz)
+    co = br / Lo
+    so = bz / Lo
+    vr = ur - br
+    vz = uz - bz
+    Li = root(vr * vr + vz * vz)
+    ci = vr / Li
+    si = vz / Li
+    d_o, Qo = _contact(Lo, p[OUTER_RADIUS], p[K_OUTER], eps)
+    d_i, Qi = _contact(Li, p[INNER_RADIUS], p[K_INNER], eps)
+    k = kinematics(ci, si, co, so, w_i, w_o, p[GAMMA], p[INNER_CONTROL] != 0.0)
+    return Qi, Qo, ci, si, co, so, k[0], k[5], d_i, d_o
+
+
+@njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
+def four_point_ball(br, bz, u1r, u1z, u2r, u2z, p, w_i, w_o, eps):
+    """A four-point ball at centre B = (br, bz) (mm, pair +'s frame) between the inner groove centres u1 (pair
+    +'s frame) and u2 (pair -'s): its residual g (N, pair +'s frame), each pair's ring share (F_r, F_z in N,
+    m in N*mm, in the pair's frame; nothing where the pair's inner contact is open) and what a record needs.
+    Float or complex throughout (the complex step); not inlined, so that it compiles twice in all (float,
+    complex), not once per caller."""
+    s0 = math.sqrt(1.0 - p[COS_NOMINAL] * p[COS_NOMINAL])
+    Qi1, Qo1, ci1, si1, co1, so1, wm1, S1, di1, do1 = _pair(u1r, u1z, br, bz, p, w_i, w_o, eps)
+    Qi2, Qo2, ci2, si2, co2, so2, wm2, S2, di2, do2 = _pair(u2r, u2z, br, 2.0 * p[OUTER_RADIUS] * s0 - bz, p,
+                                                            w_i, w_o, eps)
+    P1 = Qi1 + Qo1
+    total = P1 + Qi2 + Qo2
+    w1 = P1 / total if total.real > 0.0 else 0.5 + 0.0 * total
+    w2 = 1.0 - w1
+    wm = w1 * wm1 + w2 * wm2
+    Fc = p[MASS_RADIUS] * wm * wm
+    jc = p[INERTIA] * (w_o - w_i) / p[GAMMA]
+    f1 = w1 * jc * S1 / p[DIAMETER]  # the friction force w_a M_g,a / D of each pair's races
+    f2 = w2 * jc * S2 / p[DIAMETER]
+    li = p[LAMBDA_INNER]
+    lo = p[LAMBDA_OUTER]
+    g1r = Qi1 * ci1 - Qo1 * co1 + f1 * (li * si1 - lo * so1)
+    g1z = Qi1 * si1 - Qo1 * so1 + f1 * (lo * co1 - li * ci1)
+    g2r = Qi2 * ci2 - Qo2 * co2 + f2 * (li * si2 - lo * so2)
+    g2z = Qi2 * si2 - Qo2 * so2 + f2 * (lo * co2 - li * ci2)
+    on1 = Qi1.real > 0.0 or eps != 0.0
+    on2 = Qi2.real > 0.0 or eps != 0.0
+    zero = 0.0 * total
+    arm = li * p[INNER_ARM]  # the inner friction's moment about the inner groove centre: li f_i D (M_g/D)
+    return ((g1r + g2r + Fc, g1z - g2z,
+             Qi1 * ci1 + li * f1 * si1 if on1 else zero, Qi1 * si1 - li * f1 * ci1 if on1 else zero,
+             arm * f1 if on1 else zero,
+             Qi2 * ci2 + li * f2 * si2 if on2 else zero, Qi2 * si2 - li * f2 * ci2 if on2 else zero,
+             arm * f2 if on2 else zero),
+            (Qi1, Qo1, Qi2, Qo2, ci1, si1, co1, so1, ci2, si2, co2, so2, Fc, w1 * jc * S1 + w2 * jc * S2, wm,
+             di1, do1, di2, do2))
+
+
+@njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
+def _derivative(x, k, p, w_i, w_o, eps):
+    """d(g, F_1, m_1, F_2, m_2)/dx_k (8 values) at x = (br, bz, u1r, u1z, u2r, u2z) by complex step."""
+    h = STEP
+    y = four_point_ball(complex(x[0], h if k == 0 else 0.0), complex(x[1], h if k == 1 else 0.0),
+                        complex(x[2], h if k == 2 else 0.0), complex(x[3], h if k == 3 else 0.0),
+                        complex(x[4], h if k == 4 else 0.0), complex(x[5], h if k == 5 else 0.0),
+                        p, w_i, w_o, eps)[0]
+    return (y[0].imag / h, y[1].imag / h, y[2].imag / h, y[3].imag / h, y[4].imag / h, y[5].imag / h,
+            y[6].imag / h, y[7].imag / h)
+
+
+@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def _residual(br, bz, u, p, w_i, w_o, eps):
+    """(largest residual component N, force scale N) at B."""
+    y, st = four_point_ball(br, bz, u[2], u[3], u[4], u[5], p, w_i, w_o, eps)
+    return max(abs(y[0]), abs(y[1])), st[0] + st[1] + st[2] + st[3] + abs(st[12])
+
+
+@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def _cold_guess(u, p, w_i, w_o):
+    """A first centre B (mm, pair +'s frame): on each loaded pair's line between its groove centres at the
+    outer contact's quasi-static share, the mean of the loaded pairs; with neither loaded, at the bottom of
+    the outer arcs pressed out by the centrifugal force at the nominal orbital speed."""
+    ro = p[OUTER_RADIUS]
+    A0 = p[INNER_RADIUS] + ro
+    c0 = p[COS_NOMINAL]
+    s0 = math.sqrt(1.0 - c0 * c0)
+    L1 = math.sqrt(u[2] * u[2] + u[3] * u[3])
+    L2 = math.sqrt(u[4] * u[4] + u[5] * u[5])
+    d1 = L1 - A0
+    d2 = L2 - A0
+    r1 = (ro + p[OUTER_SHARE] * max(d1, 0.0)) / L1
+    r2 = (ro + p[OUTER_SHARE] * max(d2, 0.0)) / L2
+    b1r, b1z = r1 * u[2], r1 * u[3]
+    b2r, b2z = r2 * u[4], 2.0 * ro * s0 - r2 * u[5]
+    if d1 > 0.0 and d2 > 0.0:
+        return 0.5 * (b1r + b2r), 0.5 * (b1z + b2z)
+    if d1 > 0.0:
+        return b1r, b1z
+    if d2 > 0.0:
+        return b2r, b2z
+    wm = 0.5 * (w_i * (1.0 - p[GAMMA] * c0) + w_o * (1.0 + p[GAMMA] * c0))
+    Fc = p[MASS_RADIUS] * wm * wm
+    push = (0.5 * Fc / (p[K_OUTER] * c0)) ** (2.0 / 3.0)  # each outer arc's share of F_c, along its normal
+    return (ro + push) * c0, ro * s0
+
+
+@njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
+def settle_four_point(u, p, w_i, w_o, eps, br, bz):
+    """The ball's centre B (mm, pair +'s frame) where its residual vanishes, by damped Newton from (br, bz)
+    with the complex-step Jacobian (u: the inner groove centres as in :func:`_derivative`'s x[2:]). Settled
+    within BALL_RTOL of its largest force, or (the lightest contacts) within the rounding floor of its
+    position, as high_speed's balls. Returns (br, bz, iterations, settled)."""
+    longest = 0.05 * p[DIAMETER]  # the longest step: a twentieth of the ball
+    reach = p[INNER_RADIUS] + p[OUTER_RADIUS] + abs(u[2]) + abs(u[3]) + abs(u[4]) + abs(u[5])
+    res, scale = _residual(br, bz, u, p, w_i, w_o, eps)
+    for it in range(ITERATIONS):
+        x = (br, bz, u[2], u[3], u[4], u[5])
+        y, _ = four_point_ball(br, bz, u[2], u[3], u[4], u[5], p, w_i, w_o, eps)
+        a = _derivative(x, 0, p, w_i, w_o, eps)
+        b = _derivative(x, 1, p, w_i, w_o, eps)
+        floor = 8.0 * 2.220446049250313e-16 * reach * (abs(a[0]) + abs(a[1]) + abs(b[0]) + abs(b[1]))
+        if res <= max(BALL_RTOL * scale, floor):
+            return br, bz, it, True
+        det = a[0] * b[1] - b[0] * a[1]
+        if det == 0.0 or not math.isfinite(det):
+            return br, bz, it, False
+        step_r = (b[1] * y[0] - b[0] * y[1]) / det
+        step_z = (a[0] * y[1] - a[1] * y[0]) / det
+        t = min(1.0, longest / max(math.sqrt(step_r * step_r + step_z * step_z), 1e-300))
+        for _ in range(HALVINGS):
+            trial, trial_scale = _residual(br - t * step_r, bz - t * step_z, u, p, w_i, w_o, eps)
+            if trial < res:
+                break
+            t *= 0.5
+        if not trial < res:  # no step lowers the residual: as settled as float64 gets, or stuck
+            return br, bz, it, res <= max(BALL_RTOL * scale, 4.0 * floor)
+        br -= t * step_r
+        bz -= t * step_z
+        res, scale = trial, trial_scale
+    return br, bz, ITERATIONS, False
+
+
+@njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
+def four_point_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact_angle, states, warm):
+    """Add the four-point balls' share to f (5) and, unless ``K`` is None, Kb (5x5), in place; the arguments
+    as high_speed.spinning_balls', which has written the other balls' share. Each ball (column j of pair +,
+    PARTNER j of pair -) starts from its centre in ``warm`` (WARM_BR, WARM_BZ where WARM_VALID) or a cold
+    guess, is settled (never linearised), and adds through each pair's column J = [a; b] (its contact
+    direction's sign on b) f += J^T F + w m and Kb += sum over both pairs' J^T (dF/du) J'. Records as
+    spinning_balls: Q_i and alpha_i of each pair at its column, Q_o and alpha_o after them in a record of
+    2 n_balls, the whole ball in ``states``. Returns (sum of Q_i N, loaded contact pairs, warning bits:
+    2 beyond validity, 4 a ball not settled)."""
+    n = table.shape[1]
+    total = 0.0
+    n_loaded = 0
+    flags = 0
+    scratch = warm.reshape(warm.size)[N_WARM * n:]  # 6 x 4 condensed stiffness, after the ball pass's use
+    for j in range(n):
+        m_col = int(speed_table[PARTNER, j])
+        if m_col < j:  # an ordinary ball (-1), or pair - (settled with its pair +)
+            continue
+        p, w_i, w_o = _ball_constants(speed_table, j, omega)
+        u1r, u1z = _inner_centre(q, table, j)
+        u2r, u2z = _inner_centre(q, table, m_col)
+        u = (0.0, 0.0, u1r, u1z, u2r, u2z)
+        if warm[WARM_VALID, j] != 0.0:
+            br, bz = warm[WARM_BR, j], warm[WARM_BZ, j]
+        else:
+            br, bz = _cold_guess(u, p, w_i, w_o)
+        br, bz, iterations, settled = settle_four_point(u, p, w_i, w_o, eps, br, bz)
+        if not settled and warm[WARM_VALID, j] != 0.0:  # a stale warm start: once more from the cold guess
+            br, bz = _cold_guess(u, p, w_i, w_o)
+            br, bz, iterations, settled = settle_four_point(u, p, w_i, w_o, eps, br, bz)
+        warm[WARM_BR, j] = br
+        warm[WARM_BZ, j] = bz
+        warm[WARM_VALID, j] = 1.0 if settled else 0.0
+        if not settled:
+            flags |= 4
+        y, st = four_point_ball(br, bz, u1r, u1z, u2r, u2z, p, w_i, w_o, eps)
+        Qi1, Qo1, Qi2, Qo2, ci1, si1, co1, so1, ci2, si2, co2, so2, Fc, Mg, wm, di1, do1, di2, do2 = st
+        total += Qi1 + Qi2
+        n_loaded += (di1 > 0.0) + (di2 > 0.0)
+        if di1 + do1 > table[DEFLECTION_LIMIT, j] or di2 + do2 > table[DEFLECTION_LIMIT, m_col]:
+            flags |= 2
+        c = table[COS_PSI, j]
+        s = table[SIN_PSI, j]
+        z = table[AXIAL_OFFSET, j]
+        R = table[PITCH_RADIUS, j]
+        s1 = table[DIRECTION, j]
+        s2 = table[DIRECTION, m_col]
+        for a in range(2):  # f: each pair's ring share through its column
+            sgn = s1 if a == 0 else s2
+            Fr = y[2 + 3 * a]
+            Fz = sgn * y[3 + 3 * a]
+            mo = R * Fz - z * Fr + sgn * y[4 + 3 * a]
+            f[0] += Fr * c
+            f[1] += Fr * s
+            f[2] += Fz
+            f[3] += mo * s
+            f[4] -= mo * c
+        if ball_load is not None:
+            ball_load[j] = Qi1
+            contact_angle[j] = atan2(si1, ci1)
+            ball_load[m_col] = Qi2
+            contact_angle[m_col] = atan2(si2, ci2)
+            if ball_load.shape[0] >= 2 * n:
+                ball_load[n + j] = Qo1
+                contact_angle[n + j] = atan2(so1, co1)
+                ball_load[n + m_col] = Qo2
+                contact_angle[n + m_col] = atan2(so2, co2)
+        if states is not None:
+            residual = max(abs(y[0]), abs(y[1])) / max(Qi1 + Qo1 + Qi2 + Qo2 + abs(Fc), 1e-300)
+            _state(states, j, Qi1, Qo1, ci1, si1, co1, so1, Fc, Mg, wm, iterations, residual)
+            _state(states, m_col, Qi2, Qo2, ci2, si2, co2, so2, Fc, Mg, wm, iterations, residual)
+        if K is not None:
+            _add_stiffness(K, scratch, (br, bz, u1r, u1z, u2r, u2z), p, w_i, w_o, eps, c, s, z, R, s1, s2)
+    return total, n_loaded, flags
+
+
+@njit(inline="always")
+def _state(states, col, Qi, Qo, ci, si, co, so, Fc, Mg, wm, iterations, residual):
+    """One contact pair's row of the ball-state record (the ball's F_c, M_g, omega_m on both pairs' rows)."""
+    states[col, STATE_INNER_LOAD] = Qi
+    states[col, STATE_OUTER_LOAD] = Qo
+    states[col, STATE_INNER_ANGLE] = atan2(si, ci)
+    states[col, STATE_OUTER_ANGLE] = atan2(so, co)
+    states[col, STATE_CENTRIFUGAL] = Fc
+    states[col, STATE_GYROSCOPIC] = Mg
+    states[col, STATE_ORBITAL_SPEED] = wm
+    states[col, STATE_ITERATIONS] = iterations
+    states[col, STATE_RESIDUAL] = residual
+
+
+@njit(inline="always")
+def _dot(scratch, row, du):
+    """Row ``row`` (its first cell) of the 6 x 4 condensed stiffness times du (4)."""
+    return scratch[row] * du[0] + scratch[row + 1] * du[1] + scratch[row + 2] * du[2] + scratch[row + 3] * du[3]
+
+
+@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def _add_stiffness(K, scratch, x, p, w_i, w_o, eps, c, s, z, R, s1, s2):
+    """Kb += one four-point ball's share: the condensed dY/du = Y_u - Y_B G_B^-1 G_u (Y = (F_1, m_1, F_2, m_2),
+    u = (u1, u2); 6 x 4 in ``scratch``) mapped through both pairs' columns."""
+    dB0 = _derivative(x, 0, p, w_i, w_o, eps)
+    dB1 = _derivative(x, 1, p, w_i, w_o, eps)
+    det = dB0[0] * dB1[1] - dB1[0] * dB0[1]
+    for m in range(4):
+        du = _derivative(x, 2 + m, p, w_i, w_o, eps)
+        x0 = (dB1[1] * du[0] - dB1[0] * du[1]) / det  # X = G_B^-1 G_u, column m
+        x1 = (dB0[0] * du[1] - dB0[1] * du[0]) / det
+        for i in range(6):
+            scratch[4 * i + m] = du[2 + i] - (dB0[2 + i] * x0 + dB1[2 + i] * x1)
+    for k in range(5):  # column k of Kb: q moves along e_k
+        jr = (c, s, 0.0, -z * s, z * c)[k]  # d(u_r)/dq_k, alike for both pairs
+        jz = (0.0, 0.0, 1.0, R * s, -R * c)[k]  # d(u_z)/dq_k in the bearing frame
+        du = (jr, s1 * jz, jr, s2 * jz)
+        for a in range(2):
+            sgn = s1 if a == 0 else s2
+            dFr = _dot(scratch, 4 * (3 * a), du)
+            dFz = sgn * _dot(scratch, 4 * (3 * a + 1), du)
+            dmo = R * dFz - z * dFr + sgn * _dot(scratch, 4 * (3 * a + 2), du)
+            K[0, k] += dFr * c
+            K[1, k] += dFr * s
+            K[2, k] += dFz
+            K[3, k] += dmo * s
+            K[4, k] -= dmo * c
