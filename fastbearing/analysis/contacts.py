@@ -240,14 +240,16 @@ def _fill_contact(out: dict, side: str, i: int, contact: HertzContact, load: flo
 def _spinning_contacts(bearing: Bearing, q, speed) -> BallContacts:
     """:func:`ball_contacts` at speed: every ball's settled state from the one high-speed element."""
     q = _as_vector(q, "q", "dx, dy, dz in mm; bx, by in rad")
-    table, _, _, _, speed_table, omega, _ = speed_ball_set(bearing, speed)
+    balls = speed_ball_set(bearing, speed)
+    table, speed_table, omega = balls.balls, balls.speed_table, balls.omega
     n = bearing.n_balls
     states = np.empty((n, schema.N_STATE))
     Q = np.empty(n)
     alpha = np.empty(n)
     if hs.standing_still(speed_table, omega):  # as the kernel takes it: the balls at rest (no F_c, no M_g)
         omega = 0.0
-    balls_at_speed(q, table, speed_table, omega, 0.0, np.empty(5), None, Q, alpha, states, hs.new_warm(n))
+    balls_at_speed(q, table, speed_table, omega, 0.0, np.empty(5), None, Q, alpha, states, hs.new_warm(n),
+                   balls.four_point)
     Qo = states[:, schema.STATE_OUTER_LOAD]
     geometry = bearing.geometry
     # each contact's deflection from its own load and Hertz constant

@@ -20,6 +20,7 @@ terms need no hand-written derivative. Units: mm, N, N*mm, rad, rad/s.
 import cmath
 import math
 
+import numpy as np
 from numba import njit, types
 from numba.extending import overload
 
@@ -27,7 +28,7 @@ from ..config import CACHE, ERROR_MODEL, KERNEL_FASTMATH, REFCOUNT
 from .high_speed import BALL_RTOL, _ball_constants, _inner_centre, kinematics
 from .schema import (AXIAL_OFFSET, COS_NOMINAL, COS_PSI, DEFLECTION_LIMIT, DIAMETER, DIRECTION, GAMMA, INERTIA,
                      INNER_ARM, INNER_CONTROL, INNER_RADIUS, K_INNER, K_OUTER, LAMBDA_INNER, LAMBDA_OUTER,
-                     MASS_RADIUS, N_WARM, OUTER_RADIUS, OUTER_SHARE, PARTNER, PITCH_RADIUS, SIN_PSI,
+                     MASS_RADIUS, N_WARM, OUTER_RADIUS, OUTER_SHARE, PITCH_RADIUS, SIN_PSI,
                      STATE_CENTRIFUGAL, STATE_GYROSCOPIC, STATE_INNER_ANGLE, STATE_INNER_LOAD, STATE_ITERATIONS,
                      STATE_ORBITAL_SPEED, STATE_OUTER_ANGLE, STATE_OUTER_LOAD, STATE_RESIDUAL, WARM_BR, WARM_BZ,
                      WARM_VALID)
@@ -185,8 +186,8 @@ def settle_four_point(u, p, w_i, w_o, eps, br, bz):
     for it in range(ITERATIONS):
         x = (br, bz, u[2], u[3], u[4], u[5])
         y, _ = four_point_ball(br, bz, u[2], u[3], u[4], u[5], p, w_i, w_o, eps)
-        a = _derivative(x, 0, p, w_i, w_o, eps)
-        b = _derivative(x, 1, p, w_i, w_o, eps)
+        a = _derivative(x, np.int64(0), p, w_i, w_o, eps)  # a run-time index: one compiled variant
+        b = _derivative(x, np.int64(1), p, w_i, w_o, eps)
         floor = 8.0 * 2.220446049250313e-16 * reach * (abs(a[0]) + abs(a[1]) + abs(b[0]) + abs(b[1]))
         if res <= max(BALL_RTOL * scale, floor):
             return br, bz, it, True
@@ -210,10 +211,10 @@ def settle_four_point(u, p, w_i, w_o, eps, br, bz):
 
 
 @njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
-def four_point_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact_angle, states, warm):
+def four_point_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact_angle, states, warm, pairs):
     """Add the four-point balls' share to f (5) and, unless ``K`` is None, Kb (5x5), in place; the arguments
-    as high_speed.spinning_balls', which has written the other balls' share. Each ball (column j of pair +,
-    PARTNER j of pair -) starts from its centre in ``warm`` (WARM_BR, WARM_BZ where WARM_VALID) or a cold
+    as high_speed.spinning_balls', which has written the other balls' share; ``pairs`` (2, n) the columns of each
+    ball's pair + and pair - (schema.ElementSet.four_point). Each ball (column j of pair +, m of pair -) starts from its centre in ``warm`` (WARM_BR, WARM_BZ where WARM_VALID) or a cold
     guess, is settled (never linearised), and adds through each pair's column J = [a; b] (its contact
     direction's sign on b) f += J^T F + w m and Kb += sum over both pairs' J^T (dF/du) J'. Records as
     spinning_balls: Q_i and alpha_i of each pair at its column, Q_o and alpha_o after them in a record of
@@ -224,10 +225,9 @@ def four_point_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact
     n_loaded = 0
     flags = 0
     scratch = warm.reshape(warm.size)[N_WARM * n:]  # 6 x 4 condensed stiffness, after the ball pass's use
-    for j in range(n):
-        m_col = int(speed_table[PARTNER, j])
-        if m_col < j:  # an ordinary ball (-1), or pair - (settled with its pair +)
-            continue
+    for b in range(pairs.shape[1]):
+        j = int(pairs[0, b])
+        m_col = int(pairs[1, b])
         p, w_i, w_o = _ball_constants(speed_table, j, omega)
         u1r, u1z = _inner_centre(q, table, j)
         u2r, u2z = _inner_centre(q, table, m_col)
@@ -310,8 +310,8 @@ def _dot(scratch, row, du):
 def _add_stiffness(K, scratch, x, p, w_i, w_o, eps, c, s, z, R, s1, s2):
     """Kb += one four-point ball's share: the condensed dY/du = Y_u - Y_B G_B^-1 G_u (Y = (F_1, m_1, F_2, m_2),
     u = (u1, u2); 6 x 4 in ``scratch``) mapped through both pairs' columns."""
-    dB0 = _derivative(x, 0, p, w_i, w_o, eps)
-    dB1 = _derivative(x, 1, p, w_i, w_o, eps)
+    dB0 = _derivative(x, np.int64(0), p, w_i, w_o, eps)
+    dB1 = _derivative(x, np.int64(1), p, w_i, w_o, eps)
     det = dB0[0] * dB1[1] - dB1[0] * dB0[1]
     for m in range(4):
         du = _derivative(x, 2 + m, p, w_i, w_o, eps)

@@ -18,8 +18,8 @@ import math
 from numba import njit, types
 from numba.extending import overload
 
-from .schema import (A0, AXIAL_OFFSET, BALL_OF, COS_PSI, DEFLECTION_LIMIT, DIRECTION, EXPONENT, GAP2, HALF_COUNT, KN,
-                     MIRROR_HALF, MIRROR_OF, PARTNER, PITCH_RADIUS, SHARE, SIN_PSI, S_ANGLE, S_AXIAL,
+from .schema import (ElementSet, A0, AXIAL_OFFSET, BALL_OF, COS_PSI, DEFLECTION_LIMIT, DIRECTION, EXPONENT, GAP2, HALF_COUNT, KN,
+                     MIRROR_HALF, MIRROR_OF, PITCH_RADIUS, SHARE, SIN_PSI, S_ANGLE, S_AXIAL,
                      S_COS_PSI, S_COUNT, S_NORMAL_R, S_NORMAL_Z, S_OFFSET, S_POSITION, S_RADIUS, S_ROLLER, S_SCALE,
                      S_SIN_PSI, S_STIFFNESS, UR0, UZ0, WEIGHT)
 from ..config import CACHE, ERROR_MODEL, KERNEL_FASTMATH, REFCOUNT
@@ -188,8 +188,8 @@ def ball_loop(q, balls, f, K, ball_load, contact_angle):
         WARM_LINEARISE set by solver.solve_case), BALL_LINEARISED (f and Kb
         first-order close: see :func:`settled_loop`).
     """
-    table, exponent, smoothing, slices, speed_table, omega, warm = balls
-    total, n_loaded, warnings = ball_rows(q, table, exponent, smoothing, speed_table, omega, warm, f, K,
+    table, exponent, smoothing, slices, speed_table, omega, warm, four_point = balls
+    total, n_loaded, warnings = ball_rows(q, table, exponent, smoothing, speed_table, omega, warm, four_point, f, K,
                                           ball_load, contact_angle)
     t, n = roller_rows(q, slices, smoothing, f, K, ball_load, contact_angle)
     return total + t, n_loaded + n, warnings
@@ -244,7 +244,7 @@ def _slice_count(slices):
     return lambda slices: slices.shape[1]
 
 
-def ball_rows(q, table, exponent, smoothing, speed_table, omega, warm, f, K, ball_load, contact_angle):
+def ball_rows(q, table, exponent, smoothing, speed_table, omega, warm, four_point, f, K, ball_load, contact_angle):
     """The ball rows' f and Kb (written, not added) and (total load, loaded balls, warning bits): the
     quasi-static loop, or with a ``speed_table`` and omega (rad/s) > 0 the high-speed balls
     (high_speed.spinning_balls). Chosen while typing: ``speed_table`` None compiles the quasi-static
@@ -252,20 +252,21 @@ def ball_rows(q, table, exponent, smoothing, speed_table, omega, warm, f, K, bal
 
 
 @overload(ball_rows, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
-def _ball_rows(q, table, exponent, smoothing, speed_table, omega, warm, f, K, ball_load, contact_angle):
+def _ball_rows(q, table, exponent, smoothing, speed_table, omega, warm, four_point, f, K, ball_load, contact_angle):
     if isinstance(speed_table, types.NoneType):
-        def quasi_static(q, table, exponent, smoothing, speed_table, omega, warm, f, K, ball_load, contact_angle):
+        def quasi_static(q, table, exponent, smoothing, speed_table, omega, warm, four_point, f, K, ball_load,
+                         contact_angle):
             return quasi_static_balls(q, table, exponent, smoothing, f, K, ball_load, contact_angle)
         return quasi_static
 
-    def at_speed(q, table, exponent, smoothing, speed_table, omega, warm, f, K, ball_load, contact_angle):
+    def at_speed(q, table, exponent, smoothing, speed_table, omega, warm, four_point, f, K, ball_load, contact_angle):
         if omega == 0.0 or standing_still(speed_table, omega):  # the quasi-static balls exactly (below
             # high_speed.STILL_DEFLECTION the centrifugal force is far below the solver's resolution)
             out = quasi_static_balls(q, table, exponent, smoothing, f, K, ball_load, contact_angle)
             _outer_record_at_rest(table.shape[1], ball_load, contact_angle)
             return out
         total, n_loaded, flags = balls_at_speed(q, table, speed_table, omega, smoothing_eps(smoothing), f, K,
-                                                ball_load, contact_angle, None, warm)
+                                                ball_load, contact_angle, None, warm, four_point)
         warnings = ((CONTACT_REVERSED if flags & 1 else 0) | (BEYOND_VALIDITY if flags & 2 else 0)
                     | (BALL_UNSETTLED if flags & 4 else 0) | (BALL_LINEARISED if flags & 8 else 0))
         return total, n_loaded, warnings
@@ -273,28 +274,53 @@ def _ball_rows(q, table, exponent, smoothing, speed_table, omega, warm, f, K, ba
 
 
 @njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
-def balls_at_speed(q, table, speed_table, omega, eps, f, K, ball_load, contact_angle, states, warm):
+def balls_at_speed(q, table, speed_table, omega, eps, f, K, ball_load, contact_angle, states, warm, four_point):
     """Every ball row at shaft speed omega (rad/s): the angular contact balls (high_speed.spinning_balls, which
-    writes f and Kb), then the four-point balls (four_point.four_point_balls, which add theirs); the arguments
-    and the returns as spinning_balls'."""
+    writes f and Kb), then, with ``four_point`` (schema.ElementSet), the four-point balls
+    (four_point.four_point_balls, which add theirs); the arguments and the returns as spinning_balls'."""
     total, n_loaded, flags = spinning_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact_angle,
                                             states, warm)
-    if has_four_point(speed_table):
-        t, n, more = four_point_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact_angle, states,
-                                      warm)
-        total += t
-        n_loaded += n
-        flags |= more
-    return total, n_loaded, flags
+    t, n, more = four_point_share(q, table, speed_table, omega, eps, f, K, ball_load, contact_angle, states, warm,
+                                  four_point)
+    return total + t, n_loaded + n, flags | more
+
+
+def four_point_share(q, table, speed_table, omega, eps, f, K, ball_load, contact_angle, states, warm, four_point):
+    """The four-point balls' share added at speed (four_point.four_point_balls): (load N, loaded pairs, bits).
+    Chosen while typing: ``four_point`` None compiles no four-point code."""
+
+
+@overload(four_point_share)
+def _four_point_share(q, table, speed_table, omega, eps, f, K, ball_load, contact_angle, states, warm, four_point):
+    if isinstance(four_point, types.NoneType):
+        return lambda q, table, speed_table, omega, eps, f, K, ball_load, contact_angle, states, warm, four_point: \
+            (0.0, 0, 0)
+
+    def add(q, table, speed_table, omega, eps, f, K, ball_load, contact_angle, states, warm, four_point):
+        return four_point_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact_angle, states, warm,
+                                four_point)
+    return add
 
 
 @njit(inline="always")
-def has_four_point(speed_table):
-    """Whether a ball set at speed holds four-point balls (a column with a PARTNER)."""
-    for j in range(speed_table.shape[1]):
-        if speed_table[PARTNER, j] >= 0.0:
-            return True
-    return False
+def with_omega(balls, omega):
+    """The element set at shaft speed ``omega`` (rad/s; 0: the balls standing still), all else kept."""
+    return ElementSet(balls.balls, balls.exponents, balls.smoothing, balls.slices, balls.speed_table, omega,
+                      balls.warm, balls.four_point)
+
+
+@njit(inline="always")
+def with_smoothing(balls, eps):
+    """The element set with the solver's smoothing ``eps`` (mm; 0.0: the exact contact law)."""
+    return ElementSet(balls.balls, balls.exponents, eps, balls.slices, balls.speed_table, balls.omega, balls.warm,
+                      balls.four_point)
+
+
+@njit(inline="always")
+def at_position(balls, table, slices, omega, warm):
+    """The element set at one cage position: its ball and slice tables, shaft speed (rad/s) and warm starts."""
+    return ElementSet(table, balls.exponents, balls.smoothing, slices, balls.speed_table, omega, warm,
+                      balls.four_point)
 
 
 def _outer_record_at_rest(n, ball_load, contact_angle):
@@ -338,16 +364,16 @@ def quasi_static_balls(q, table, exponent, smoothing, f, K, ball_load, contact_a
     example's 28 balls, for the same answer to rounding."""
     n_half = int(table[HALF_COUNT, 0]) if table.shape[1] > 0 else 0
     eps = smoothing_eps(smoothing)
-    if n_half > 0 and q[1] == 0.0 and q[3] == 0.0:
-        acc, total, n_loaded, warnings = _ball_block(q, table, MIRROR_HALF, n_half, exponent, eps, K, ball_load,
-                                                     contact_angle)
+    half = n_half > 0 and q[1] == 0.0 and q[3] == 0.0
+    # one call with the block's row and count as run-time numbers: ball_sums compiles once for either block
+    base = MIRROR_HALF if half else 0
+    n = n_half if half else table.shape[1]
+    acc, total, n_loaded, warnings = _ball_block(q, table, base, n, exponent, eps, K, ball_load, contact_angle)
+    if half:
         (f0, f1, f2, f3, f4, k00, k01, k02, k03, k04, k11, k12, k13, k22, k23, k24, k33, k34, k44) = acc
         acc = (f0, 0.0, f2, 0.0, f4, k00, 0.0, k02, 0.0, k04, k11, 0.0, k13, k22, 0.0, k24, k33, 0.0, k44)
         if ball_load is not None:
             spread_mirror_record(table, n_half, ball_load, contact_angle)
-    else:
-        acc, total, n_loaded, warnings = _ball_block(q, table, 0, table.shape[1], exponent, eps, K, ball_load,
-                                                     contact_angle)
     _store(acc, f, K, False)
     return total, n_loaded, warnings
 

@@ -16,8 +16,11 @@ from collections import namedtuple
 #: ``smoothing`` the solver's smoothing eps (mm; 0.0: the exact contact law); ``slices`` None (no roller
 #: rows) or the slice table (N_SLICE_COLUMNS, n_slices); ``speed_table`` None (the quasi-static model) or the
 #: balls' high-speed constants (N_SPEED_COLUMNS, n_balls) with ``omega`` the shaft speed (rad/s) and
-#: ``warm`` the balls' warm-start scratch (high_speed.new_warm). A None part compiles no code for it.
-ElementSet = namedtuple("ElementSet", "balls exponents smoothing slices speed_table omega warm")
+#: ``warm`` the balls' warm-start scratch (high_speed.new_warm); ``four_point`` None (no four-point balls, or the
+#: quasi-static model) or the columns of each four-point ball's two contact pairs at speed, (2, n_four_point)
+#: float64 (model/four_point.py). A None part compiles no code for it. Kernels that change a part go through
+#: kernel.with_omega, kernel.with_smoothing and kernel.at_position, never listing the fields.
+ElementSet = namedtuple("ElementSet", "balls exponents smoothing slices speed_table omega warm four_point")
 
 # -- ball table (bearing.Bearing.ball_table): column j is ball j ---------------------------------------------
 #: cos/sin of the azimuth psi; the row's axial offset z_r and the radius R of the inner groove-curvature

@@ -37,8 +37,9 @@ from numba import njit
 from ..config import (CACHE, DIVERGED_REACH, ERROR_MODEL, FASTMATH, NEWTON, RECORD_AHEAD, REFCOUNT,
                      SEARCH_CURVATURE, SEARCH_TRIALS, SMOOTHING_FIRST, SMOOTHING_LAST, SMOOTHING_RATIO, SMOOTHING_RTOL, STAGNATION_ITERATIONS,
                      STILL_START_RTOL)
-from .schema import A0, AXIAL_OFFSET, EXPONENT, ElementSet
-from .kernel import SETTLE_PASSES, ball_loop, forget_warm, settled_loop, slice_reach, take_linearised
+from .schema import A0, AXIAL_OFFSET, EXPONENT
+from .kernel import (SETTLE_PASSES, ball_loop, forget_warm, settled_loop, slice_reach, take_linearised, with_omega,
+                     with_smoothing)
 from .linalg import ldl_solve, lu_solve, stiffness_solve
 from ..status import (BALL_EQUILIBRIUM, BALL_LINEARISED, BALL_UNSETTLED, CONVERGED, ITERATION_LIMIT, NONFINITE_INPUT,
                      NONFINITE_RESULT, PRECISION_LIMIT, SINGULAR, STALLED, UNLOADED, WARNING_MASK)
@@ -123,8 +124,7 @@ def _cold_start(f_target, q, f, K, balls, D, max_step):
     evals = 0
     # the size is a guess: at speed take it from the balls standing still (omega 0: the quasi-static loop,
     # a tenth of the cost, and nothing for the high-speed balls' warm starts to forget)
-    still = ElementSet(balls.balls, balls.exponents, balls.smoothing, balls.slices, balls.speed_table, 0.0,
-                       balls.warm)
+    still = with_omega(balls, 0.0)
     for attempt in range(40):
         for i in range(5):
             q[i] = size * f_target[i] * D[i] * D[i] / norm
@@ -482,13 +482,12 @@ def _smoothing_continuation(f_target, q, f, K, balls, settings, tol, arm, reach,
     contact law from the smallest. Returns what :func:`_minimise_energy`
     does, with iterations and evaluations summed over the levels.
     """
-    table, exponent, _, slices, speed_table, omega, warm = balls
     eps = SMOOTHING_FIRST * reach
     iterations = 0
     evals = 0
     while eps > SMOOTHING_LAST * reach:
         level_tol = max(tol, SMOOTHING_RTOL * tol / settings.rtol)
-        smoothed = ElementSet(table, exponent, eps, slices, speed_table, omega, warm)
+        smoothed = with_smoothing(balls, eps)
         st, it, rmax, ev, total, warn = _minimise_energy(f_target, q, f, K, smoothed, settings, level_tol, arm,
                                                           reach, D, work)
         iterations += it
@@ -505,8 +504,7 @@ def _still_start(f_target, q, f, K, balls, settings, tol, arm, reach, D, work, b
     """q solving the load to ``tol`` with the balls standing still (omega 0: the quasi-static loop).
     Returns (evaluations, iterations, whether q is a start worth taking). The record arrays are only
     passed on (nothing is recorded standing still), so that _descend compiles once per solve_case."""
-    still = ElementSet(balls.balls, balls.exponents, balls.smoothing, balls.slices, balls.speed_table, 0.0,
-                       balls.warm)
+    still = with_omega(balls, 0.0)
     ev, total, n_loaded, warn = _cold_start(f_target, q, f, K, still, D, settings.max_step)
     status, it, rmax, ev2, total, warn, _ = _descend(f_target, q, f, K, total, n_loaded, warn, still, settings, tol,
                                                      arm, reach, D, work, ball_load, contact_angle)

@@ -12,11 +12,10 @@ from numba import njit, prange, types
 from numba.extending import intrinsic, overload
 
 from ..config import CACHE, ERROR_MODEL, REFCOUNT
-from .kernel import ball_loop, forget_warm, slice_count, warm_scratch
+from .kernel import at_position, ball_loop, forget_warm, slice_count, warm_scratch
 from .linalg import stiffness_solve
 from .roots import cube_root
-from .schema import (LIFE_CE, LIFE_CI, LIFE_FIRST, LIFE_INNER, LIFE_SLICES, LIFE_X0, LIFE_Y0, LIFE_Z,
-                     ElementSet)
+from .schema import LIFE_CE, LIFE_CI, LIFE_FIRST, LIFE_INNER, LIFE_SLICES, LIFE_X0, LIFE_Y0, LIFE_Z
 from .solver import WORK_ROWS, solve_case, with_warnings
 from ..status import BALL_UNSETTLED, CONVERGED, NONFINITE_RESULT, OUTCOME_MASK, UNLOADED
 
@@ -57,8 +56,7 @@ def _at_speed(balls, speeds, i, warm, fresh):
     def spinning(balls, speeds, i, warm, fresh):
         if fresh:
             forget_warm(warm)
-        return ElementSet(balls.balls, balls.exponents, balls.smoothing, balls.slices, balls.speed_table, speeds[i],
-                          warm)
+        return at_position(balls, balls.balls, balls.slices, speeds[i], warm)
     return spinning
 
 
@@ -455,13 +453,13 @@ def _slices_at(slice_tables, p):
 
 
 @njit(parallel=True, cache=CACHE, error_model=ERROR_MODEL, nogil=True)
-def passage_sweep(inputs, given_load, tables, slice_tables, exponent, speed_table, omega, q, f, K, status, iterations, residual,
+def passage_sweep(inputs, given_load, tables, slice_tables, balls, q, f, K, status, iterations, residual,
                   max_load, n_loaded, min_angle, max_angle, ball_row, settings, stop):
     """Ball-passage tables, in place: every operating point at every cage position.
 
-    ``tables`` (P, 13, n_balls) and ``slice_tables`` (P, 14, n_slices; None without roller rows) hold the
-    ball and roller-slice tables at each of P cage
-    angles (``exponent``, ``speed_table`` and ``omega`` as in a ball set); outputs are (N, P, ...). Along
+    ``tables`` (P, N_BALL_COLUMNS, n_balls) and ``slice_tables`` (P, N_SLICE_COLUMNS, n_slices; None without
+    roller rows) hold the ball and roller-slice tables at each of P cage angles, ``balls`` the bearing's
+    element set at cage angle 0 (its exponents, speed parts and shaft speed); outputs are (N, P, ...). Along
     the positions of one point each solve starts from the previous
     position's converged q. ``stop[0] != 0`` ends the sweep early, as in map_sweep.
     """
@@ -473,7 +471,7 @@ def passage_sweep(inputs, given_load, tables, slice_tables, exponent, speed_tabl
         work = np.empty((WORK_ROWS, 5))
         ball_load = np.empty(n_elements)
         contact_angle = np.empty(n_elements)
-        spin = warm_scratch(speed_table)
+        spin = warm_scratch(balls.speed_table)
         for i in range(g, n_points, groups):
             if stop_requested(stop):
                 break
@@ -486,7 +484,7 @@ def passage_sweep(inputs, given_load, tables, slice_tables, exponent, speed_tabl
                         q[i, p, d] = q[i, p - 1, d]
                 status[i, p], iterations[i, p], residual[i, p] = operating_point(
                     given_load, inputs[i], warm, q[i, p], f[i, p], K[i, p],
-                    ElementSet(tables[p], exponent, 0.0, slices_at(slice_tables, p), speed_table, omega, spin), settings,
+                    at_position(balls, tables[p], slices_at(slice_tables, p), balls.omega, spin), settings,
                     work, ball_load, contact_angle)
                 row_summary(ball_load, contact_angle, ball_row, max_load[i, p], n_loaded[i, p], min_angle[i, p],
                             max_angle[i, p])

@@ -197,15 +197,14 @@ def _variables(cfg: PassageConfig) -> list[storage.Variable]:
     ]
 
 
-def compute_block(tables: np.ndarray, slice_tables: np.ndarray | None, exponents: np.ndarray, speed_table, omega: float,
-                  ball_row: np.ndarray, given_load: bool, settings, harmonics: int, inputs: np.ndarray, res: dict,
-                  first: int, stop: np.ndarray) -> None:
+def compute_block(tables: np.ndarray, slice_tables: np.ndarray | None, balls, ball_row: np.ndarray, given_load: bool,
+                  settings, harmonics: int, inputs: np.ndarray, res: dict, first: int, stop: np.ndarray) -> None:
     """Fill one block's results ``res``: every point of ``inputs`` at every cage position, then the
     summaries over the period (mean, min, max, variation, Fourier). The work unit of a table, here or on Dask.
-    ``speed_table`` None (quasi-static) or the bearing's high-speed constants with the shaft speed ``omega``
-    (rad/s). ``first`` (the block's first point) is unused: every point starts cold. ``stop[0] != 0`` ends
+    ``balls`` the bearing's element set at cage angle 0 (Bearing.ball_set: quasi-static, or at the table's
+    speed). ``first`` (the block's first point) is unused: every point starts cold. ``stop[0] != 0`` ends
     early."""
-    passage_sweep(inputs, given_load, tables, slice_tables, exponents, speed_table, omega, res["q"], res["f"],
+    passage_sweep(inputs, given_load, tables, slice_tables, balls, res["q"], res["f"],
                   res["K"], res["status"],
                   res["iterations"], res["residual"], res["max_ball_load"], res["loaded_balls"],
                   res["min_contact_angle"], res["max_contact_angle"], ball_row, settings, stop)
@@ -240,8 +239,8 @@ def job(cfg: PassageConfig) -> jobs.Job:
     slice_tables = (np.ascontiguousarray(np.stack([cfg.bearing.slice_table(a) for a in cfg.cage_angles]))
                     if cfg.bearing.roller_rows else None)
     spinning = cfg.model_speed > 0
-    compute = partial(compute_block, tables, slice_tables, cfg.bearing.ball_exponents,
-                      cfg.bearing.speed_table if spinning else None, rpm_to_rad_s(cfg.model_speed),
+    compute = partial(compute_block, tables, slice_tables,
+                      cfg.bearing.ball_set(speed=cfg.model_speed if spinning else None),
                       cfg.bearing.element_rows, cfg.cases.given == "load", settings, cfg.harmonics)
     return jobs.Job(
         kind="ball-passage table", bearing=cfg.bearing, cases=cfg.cases, variables=tuple(_variables(cfg)),

@@ -354,11 +354,19 @@ class Bearing:
         if not mirror:  # a per-element feature outside the table switches the mirror half off
             return self.ball_set(cage_angle, speed)._replace(balls=without_mirror_half(self.ball_table(cage_angle)))
         if speed is None:
-            return ElementSet(self.ball_table(cage_angle), self.ball_exponents, 0.0, slices, None, 0.0, None)
+            return ElementSet(self.ball_table(cage_angle), self.ball_exponents, 0.0, slices, None, 0.0, None, None)
         from ..engine.high_speed import new_warm
 
         return ElementSet(self.ball_table(cage_angle), self.ball_exponents, 0.0, slices, self.speed_table,
-                          rpm_to_rad_s(speed), new_warm(self.n_balls))
+                          rpm_to_rad_s(speed), new_warm(self.n_balls), self.four_point_columns)
+
+    @cached_property
+    def four_point_columns(self):
+        """None without four-point rows, else the ball table's columns of each four-point ball's pair +a0 and
+        pair -a0, (2, n) float64: what the kernel at speed settles as one ball (schema.ElementSet)."""
+        partner = partner_columns(self.rows)
+        lead = np.flatnonzero(partner > np.arange(partner.size))
+        return np.ascontiguousarray([lead, partner[lead]], dtype=float) if lead.size else None
 
     @cached_property
     def speed_table(self) -> np.ndarray:
@@ -373,7 +381,7 @@ class Bearing:
             columns = per_row(i) if per_row is not None else self.geometry.speed_columns(r.contact_angle)
             table[:, k:k + r.n_balls] = np.asarray(columns)[:, None]
             k += r.n_balls
-        table[PARTNER] = partner_columns(self.rows)
+        table[PARTNER] = partner_columns(self.rows)  # the high-speed pass leaves these balls to four_point
         return table
 
     def slice_table(self, cage_angle: float = 0.0) -> np.ndarray:
