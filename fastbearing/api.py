@@ -22,6 +22,7 @@ from .model.bearing import Bearing, check_speed, check_speed_model
 from .dofs import DISPLACEMENT_NAMES, DISPLACEMENT_UNITS, LOAD_NAMES, LOAD_UNITS  # noqa: F401 (public names)
 from .engine.kernel import ball_loop
 from .config import METHODS, NEWTON
+from . import boundary
 from .engine.solver import WORK_ROWS, SolverSettings, solve_case
 from .engine.sweep import solve_sweep, stiffness_sweep
 
@@ -50,7 +51,10 @@ class SolveResult:
         Kernel evaluations (each is one pass over all balls).
     note : str
         Where the model has no answer for this load, why, in one line (empty otherwise): e.g. a tapered
-        row under a radial load with too little axial load to hold it.
+        row under a radial load with too little axial load to hold it; or where a single row took a
+        combined load with its tilt free, that it tilted and how to fix the tilt.
+    fixed : tuple of str
+        The degrees of freedom given as displacements (``fixed=``): q holds their values, f the reactions.
     """
 
     q: np.ndarray
@@ -61,6 +65,7 @@ class SolveResult:
     residual: float
     evaluations: int
     note: str = ""
+    fixed: tuple = ()
 
     @property
     def converged(self) -> bool:
@@ -76,6 +81,8 @@ class SolveResult:
                "converged": self.converged, "iterations": int(self.iterations), "residual": float(self.residual)}
         if self.note:
             out["note"] = self.note
+        if self.fixed:
+            out["fixed"] = list(self.fixed)
         return out
 
 
@@ -122,12 +129,14 @@ def _method(method: str) -> int:
     return METHODS[validate.choice(method, "method", sorted(METHODS))]
 
 
-def solver_settings(bearing: Bearing, method: str = "newton", rtol=None, max_iter=None) -> SolverSettings:
+def solver_settings(bearing: Bearing, method: str = "newton", rtol=None, max_iter=None,
+                    fixed: int = 0) -> SolverSettings:
     """Checked solver settings shared by :func:`solve` and the sweeps.
 
     ``rtol`` (relative residual, default 1e-10) must lie in
     [1e-14, 1e-3]; ``max_iter`` (iterations per solver phase) is an integer
-    in [1, 10000].
+    in [1, 10000]; ``fixed`` the bitmask of degrees of freedom given as
+    displacements (boundary.Fixed.mask).
     """
     m = _method(method)
     default_iter = config.MAX_ITER_NEWTON if m == NEWTON else config.MAX_ITER_BROYDEN
@@ -140,6 +149,7 @@ def solver_settings(bearing: Bearing, method: str = "newton", rtol=None, max_ite
         length_scale=bearing.length_scale,
         # one fast-phase step may move at most half the smallest groove-centre distance
         max_step=0.5 * min(r.deflection_scale for r in bearing.rows),
+        fixed=int(fixed),
     )
 
 
@@ -241,7 +251,7 @@ def ball_loads(bearing: Bearing, q, speed=0.0) -> tuple[np.ndarray, np.ndarray]:
 
 
 def solve(bearing: Bearing, f, q0=None, method: str = "newton", rtol=None, max_iter=None,
-          speed=0.0) -> SolveResult:
+          speed=0.0, fixed=None) -> SolveResult:
     """Displacement q and stiffness Kb under a given load f (paper Eq. 16).
 
     Parameters
@@ -263,6 +273,10 @@ def solve(bearing: Bearing, f, q0=None, method: str = "newton", rtol=None, max_i
         equilibrium under its centrifugal force and gyroscopic moment (fastbearing.engine.high_speed; the
         bearing needs its geometry), and Kb is the exact derivative with the balls re-settled: not
         symmetric in general.
+    fixed : dict, optional
+        Degrees of freedom given as displacements, e.g. ``{"bx": 0.0, "by": 0.0}`` (dx, dy, dz in mm; bx, by
+        in rad): the ring is held there and the load entries at those degrees of freedom, which must be 0,
+        are the unknown reactions (returned in ``f``). Any subset but all five (that is :func:`stiffness`).
 
     Returns
     -------
@@ -286,8 +300,10 @@ def solve(bearing: Bearing, f, q0=None, method: str = "newton", rtol=None, max_i
         ``result.converged`` False.
     """
     bearing = _check_bearing(bearing)
-    f_target = _as_vector(f, "f", "Fx, Fy, Fz in N; Mx, My in N*mm")
-    opts = solver_settings(bearing, method, rtol, max_iter)
+    load = _as_vector(f, "f", "Fx, Fy, Fz in N; Mx, My in N*mm")
+    held = boundary.parse_fixed(fixed)
+    f_target = boundary.targets(load, held)
+    opts = solver_settings(bearing, method, rtol, max_iter, held.mask)
     balls = speed_ball_set(bearing, speed)
     warm = q0 is not None
     q = _as_vector(q0, "q0", "mm, rad").copy() if warm else np.zeros(5)
@@ -296,8 +312,12 @@ def solve(bearing: Bearing, f, q0=None, method: str = "newton", rtol=None, max_i
     work = np.empty((WORK_ROWS, 5))
     out = solve_case(f_target, q, f_out, K, balls, opts, warm, work, None, None)
     status = int(out.status)
-    return SolveResult(q, f_out, K, status, int(out.iterations), float(out.residual), int(out.evaluations),
-                       "" if st.is_converged(status) else no_solution_note(bearing, f_target, status, speed))
+    if st.is_converged(status):
+        note = "" if held else boundary.free_tilt_note(bearing, load, q)
+    else:
+        note = no_solution_note(bearing, load, status, speed)
+    return SolveResult(q, f_out, K, status, int(out.iterations), float(out.residual), int(out.evaluations), note,
+                       tuple(held.names))
 
 
 def no_solution_note(bearing: Bearing, load, status: int, speed: float = 0.0) -> str:
@@ -349,7 +369,7 @@ class SolveManyResult:
 
 
 def solve_many(bearing: Bearing, f, q0=None, method: str = "newton", rtol=None, max_iter=None,
-               threads=None, speed=0.0) -> SolveManyResult:
+               threads=None, speed=0.0, fixed=None) -> SolveManyResult:
     """Solve many independent load cases in parallel.
 
     Parameters
@@ -362,6 +382,9 @@ def solve_many(bearing: Bearing, f, q0=None, method: str = "newton", rtol=None, 
         Numba threads for this call (default: NUMBA_NUM_THREADS).
     speed : float or array_like (N,)
         Shaft speed in rpm, one for all cases or one per case (default 0), as in :func:`solve`.
+    fixed : dict, optional
+        Degrees of freedom given as displacements, as in :func:`solve`; a value may be one number or N
+        (one per case). f's entries there must be 0; the result's f holds the reactions.
 
     ``bearing``, ``method``, ``rtol`` and ``max_iter`` are as in :func:`solve`.
     Results do not depend on the thread count.
@@ -379,9 +402,11 @@ def solve_many(bearing: Bearing, f, q0=None, method: str = "newton", rtol=None, 
         :func:`solve` (and when ``q0`` has another number of cases than ``f``).
     """
     bearing = _check_bearing(bearing)
-    f_targets = as_cases(f, "f", "Fx, Fy, Fz in N; Mx, My in N*mm")
-    n = f_targets.shape[0]
-    opts = solver_settings(bearing, method, rtol, max_iter)
+    loads = as_cases(f, "f", "Fx, Fy, Fz in N; Mx, My in N*mm")
+    n = loads.shape[0]
+    held = boundary.parse_fixed(fixed, n)
+    f_targets = boundary.targets(loads, held)
+    opts = solver_settings(bearing, method, rtol, max_iter, held.mask)
     balls, speeds = speed_cases(bearing, speed, n)
     warm = q0 is not None
     if warm:

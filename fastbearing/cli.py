@@ -13,6 +13,8 @@ import sys
 
 import numpy as np
 
+from .boundary import parse_fix_option
+from .validate import FieldError
 from .model.bearing import ARRANGEMENTS, preset_names
 from .model.bearing_file import load_bearing, preset_bearing
 from .config import METHODS
@@ -90,6 +92,10 @@ def build_parser() -> argparse.ArgumentParser:
     given.add_argument("--displacement", metavar="dx,dy,dz,bx,by",
                        help="inner-ring displacement at the bearing centre: mm, mm, mm, rad, rad "
                             "(negative first value: --displacement=-0.01,0,0.02,0,0)")
+    p.add_argument("--fix", metavar="NAME=VALUE,...",
+                   help="with --load, degrees of freedom given as displacements, e.g. bx=0,by=0 (dx, dy, dz in mm; "
+                   "bx, by in rad): the ring is held there and the load entries there, which must be 0, become "
+                   "the reactions (reported in f); any subset but all five")
     p.add_argument("--method", choices=list(METHODS), default="newton",
                    help="solver for --load (default newton)")
     p.add_argument("--json", action="store_true", help="print one JSON object (q, f, K, status, converged, "
@@ -564,6 +570,9 @@ def _table(result: dict) -> str:
              + (f"  speed: {result['speed']:g} rpm (high-speed model)" if result.get("speed") else "")]
     if result.get("note"):
         lines.append(result["note"])
+    if result.get("fixed"):
+        held = [n for n in DISPLACEMENT_NAMES if n in result["fixed"]]
+        lines.append("fixed (given as displacements): " + ", ".join(held) + "; f there is the reaction")
     if not result["converged"]:
         if result.get("note"):  # the model has no answer here: no numbers that could pass for one
             return "\n".join(lines)
@@ -605,8 +614,17 @@ def _solve(args) -> int:
         settings = LifeSettings(rotating=args.rotating, speed=life_speed or None, kappa=args.kappa,
                                 contamination=args.contamination, balls_at_speed=speed > 0)
         ratings(bearing)  # a bearing without geometry is refused before the solve
+    if args.fix is not None and args.load is None:
+        raise ValueError("--fix goes with --load (with --displacement every degree of freedom is given)")
+    fixed = parse_fix_option(args.fix) if args.fix is not None else None
     if args.load is not None:
-        result = solve(bearing, _five_numbers(args.load, "--load"), method=args.method, speed=speed).to_dict()
+        try:
+            result = solve(bearing, _five_numbers(args.load, "--load"), method=args.method, speed=speed,
+                           fixed=fixed).to_dict()
+        except FieldError as err:  # the API's names, as the command line spells them
+            raise ValueError(str(err).replace("fixed.", "--fix ", 1).replace("fixed fixes", "--fix fixes", 1)
+                             .replace("f.", "--load ", 1) if err.field.split(".")[0] in ("fixed", "f")
+                             else str(err)) from None
     else:
         q = _five_numbers(args.displacement, "--displacement")
         try:
@@ -630,7 +648,8 @@ def _solve(args) -> int:
     if settings is not None and result["converged"]:
         from .analysis.life import life
 
-        result["life"] = life(bearing, result["f"] if args.load is None else _five_numbers(args.load, "--load"),
+        given = args.load is not None and not fixed  # else f holds the reactions: the load the ring carries
+        result["life"] = life(bearing, _five_numbers(args.load, "--load") if given else result["f"],
                               result["q"], settings).to_dict()
     if args.json:
         print(json_text(result))

@@ -414,9 +414,9 @@ def test_curved_predictors_are_one_and_two_orders_better_than_the_tangent():
         solved = [fb.solve(bearing, F, rtol=1e-13) for F in loads]
         assert all((fb.ball_loads(bearing, r.q)[0] > 0).all() for r in solved)
         q, slope = np.empty(5), np.empty(5)
-        assert tangent_predictor(True, loads[1], solved[0].q, solved[0].f, solved[0].K, slope, scratch)
+        assert tangent_predictor(True, loads[1], solved[0].q, solved[0].f, solved[0].K, slope, scratch, 0)
         slope -= solved[0].q  # the tangent step case 1 took from case 0
-        assert tangent_predictor(True, loads[2], solved[1].q, solved[1].f, solved[1].K, q, scratch)
+        assert tangent_predictor(True, loads[2], solved[1].q, solved[1].f, solved[1].K, q, scratch, 0)
         errors["tangent"].append(np.abs((q - solved[2].q) * D).max())
         for name, known in (("parabola", False), ("cubic", True)):
             bent = q.copy()

@@ -518,7 +518,7 @@ Q_LOAD_RTOL = 1e-6
 
 
 def rating_life(bearing, load, *, q=None, rotating: str = "inner", speed=None, kappa=None,
-                contamination: float = 1.0) -> LifeResult:
+                contamination: float = 1.0, fixed=None) -> LifeResult:
     """Rating life of ``bearing`` under ``load`` (Fx, Fy, Fz, Mx, My in N, N*mm): ISO 281 C, P, L10,
     ISO/TS 16281 L10r per row and of the bearing (million revolutions; hours with ``speed``), static
     safety and, with ``kappa``, a_ISO and L_nmr. Needs ``[bearing.geometry]``; ValueError names any bad
@@ -529,7 +529,9 @@ def rating_life(bearing, load, *, q=None, rotating: str = "inner", speed=None, k
     rated from its own contacts; roller rows have no high-speed model, so they are solved quasi-statically
     (said in ``notes``). Lives in hours at that speed too. ``q`` (mm, rad) is the displacement solved at
     that speed; solved here when not given, and refused unless it is finite and carries ``load`` (within
-    Q_LOAD_RTOL)."""
+    Q_LOAD_RTOL). ``fixed`` (as in :func:`fastbearing.solve`, e.g. {"bx": 0.0, "by": 0.0}) holds those
+    degrees of freedom where the shaft holds them: ``load``'s entries there must be 0, and the life is that
+    of the load the ring then carries (the reactions included)."""
     from ..api import _as_vector
 
     load = _as_vector(load, "load", "N, N*mm")
@@ -547,13 +549,17 @@ def rating_life(bearing, load, *, q=None, rotating: str = "inner", speed=None, k
             check_speed_model(bearing, check_speed(settings.speed))
             model_speed = settings.speed
             settings = replace(settings, balls_at_speed=True)
+    if fixed is not None and q is not None:
+        raise ValueError("give q or fixed, not both (q is the displacement of a solve; fixed asks for one)")
     if q is None:
         from ..api import solve
 
-        result = solve(bearing, load, speed=model_speed)
+        result = solve(bearing, load, speed=model_speed, fixed=fixed)
         if not result.converged:
             raise ValueError(f"the load did not solve (status {result.status_name}); no load distribution, no life")
         q = result.q
+        if result.fixed:
+            load = result.f  # the reactions at the held degrees of freedom: the load the ring carries
     else:
         q = _checked_displacement(bearing, load, q, model_speed)
     out = life(bearing, load, q, settings)

@@ -47,7 +47,7 @@ from ..status import (BALL_EQUILIBRIUM, BALL_LINEARISED, BALL_UNSETTLED, CONVERG
 #: The solver's settings, one record: ``method`` (NEWTON or BROYDEN), ``rtol`` (relative residual),
 #: ``max_iter`` (iterations per phase), ``length_scale`` (L in mm: moments are divided by it in the
 #: residual) and ``max_step`` (largest fast-phase step in scaled units, mm).
-SolverSettings = namedtuple("SolverSettings", "method rtol max_iter length_scale max_step")
+SolverSettings = namedtuple("SolverSettings", "method rtol max_iter length_scale max_step fixed")
 
 #: What one solve reports: ``status`` (:mod:`fastbearing.status`), ``iterations`` (over all phases),
 #: ``residual`` (relative, see :func:`solve_case`) and ``evaluations`` (kernel calls).
@@ -81,6 +81,44 @@ def _scaled_residual(f, f_target, D, g):
     return rmax, r2
 
 
+@njit(inline="always")
+def _impose(q, f_target, D):
+    """The prescribed displacements: q_i = f_target_i at each fixed degree of freedom (D_i = 0: the target
+    holds its value, mm or rad, and the residual does not see it; docs/model.md, "Mixed boundary
+    conditions: the reduced system")."""
+    for i in range(5):
+        if D[i] == 0.0:
+            q[i] = f_target[i]
+
+
+@njit(inline="always")
+def _scale(K, D, Ks):
+    """Ks = D Kb D, the solver's scaled stiffness; a fixed degree of freedom (D_i = 0) gets the largest free
+    diagonal on its diagonal, so that its row of every step solve says "no step" (its residual is 0)."""
+    big = 0.0
+    for i in range(5):
+        for j in range(5):
+            Ks[i, j] = K[i, j] * D[i] * D[j]
+        if D[i] != 0.0:
+            big = max(big, abs(Ks[i, i]))
+    for i in range(5):
+        if D[i] == 0.0:
+            for j in range(5):
+                Ks[i, j] = 0.0
+                Ks[j, i] = 0.0
+            Ks[i, i] = big if big > 0.0 else 1.0
+
+
+@njit(inline="always")
+def _scaled_size(q, D):
+    """max |q_i / D_i| over the free degrees of freedom (mm)."""
+    size = 0.0
+    for i in range(5):
+        if D[i] != 0.0:
+            size = max(size, abs(q[i] / D[i]))
+    return size
+
+
 @njit(cache=CACHE, fastmath=FASTMATH, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
 def _rounding_floor(total, Ks, q, D, arm, reach):
     """How far a computed scaled residual can be from the true one at q (N).
@@ -92,10 +130,10 @@ def _rounding_floor(total, Ks, q, D, arm, reach):
     also the resolution of q itself: Kb times one ulp of q.
     """
     trace = 0.0
-    size = 0.0
     for i in range(5):
-        trace += abs(Ks[i, i])
-        size = max(size, abs(q[i] / D[i]))
+        if D[i] != 0.0:
+            trace += abs(Ks[i, i])
+    size = _scaled_size(q, D)
     return _FLOOR_FACTOR * _EPS * (total * arm + trace * (reach + size))
 
 
@@ -115,6 +153,7 @@ def _cold_start(f_target, q, f, K, balls, D, max_step):
     if norm2 == 0.0:
         for i in range(5):
             q[i] = 0.0
+        _impose(q, f_target, D)
         total, n_loaded, warn = ball_loop(q, balls, f, K, None, None)
         return 1, total, n_loaded, warn
     norm = math.sqrt(norm2)
@@ -128,6 +167,7 @@ def _cold_start(f_target, q, f, K, balls, D, max_step):
     for attempt in range(40):
         for i in range(5):
             q[i] = size * f_target[i] * D[i] * D[i] / norm
+        _impose(q, f_target, D)
         total, n_loaded, warn = ball_loop(q, still, f, None, None, None)
         evals += 1
         if n_loaded > 0:
@@ -142,11 +182,13 @@ def _cold_start(f_target, q, f, K, balls, D, max_step):
     factor = min(max(proj ** (-1.0 / n_exp), 0.05), 20.0) if proj > 0.0 else 1.0
     for i in range(5):
         q[i] *= factor
+    _impose(q, f_target, D)
     total, n_loaded, warn = ball_loop(q, balls, f, K, None, None)
     if n_loaded == 0:
         # shrunk back inside the clearance: keep the guess that loads balls
         for i in range(5):
             q[i] /= factor
+        _impose(q, f_target, D)
         total, n_loaded, warn = ball_loop(q, balls, f, K, None, None)
         evals += 1
     return evals + 1, total, n_loaded, warn
@@ -200,9 +242,7 @@ def _descend(f_target, q, f, K, total, n_loaded, warn, balls, settings, tol, arm
     lam = 0.0
     fresh_jacobian = True
     if not newton:
-        for i in range(5):
-            for j in range(5):
-                B[i, j] = K[i, j] * D[i] * D[j]
+        _scale(K, D, B)
     passes = 0
     record_trials = newton and balls.omega != 0.0
     # the residual (squared) from which a quasi-static Newton trial is expected to converge (RECORD_AHEAD)
@@ -211,9 +251,7 @@ def _descend(f_target, q, f, K, total, n_loaded, warn, balls, settings, tol, arm
     for it in range(settings.max_iter + 1):
         while True:
             if newton:
-                for i in range(5):
-                    for j in range(5):
-                        Ks[i, j] = K[i, j] * D[i] * D[j]
+                _scale(K, D, Ks)
             floor = _rounding_floor(total, Ks if newton else B, q, D, arm, reach)
             work[_FLOOR, 0] = floor
             if not (rmax <= max(tol, floor) and warn & BALL_LINEARISED and passes < SETTLE_PASSES):
@@ -256,10 +294,9 @@ def _descend(f_target, q, f, K, total, n_loaded, warn, balls, settings, tol, arm
             # state overshoots: let one step at most double the displacement
             # (scaled, mm), and never exceed max_step
             big = 0.0
-            size = 0.0
             for i in range(5):
                 big = max(big, abs(dp[i]))
-                size = max(size, abs(q[i] / D[i]))
+            size = _scaled_size(q, D)
             cap = min(max_step, max(size, 0.05 * max_step))
             if big > cap:
                 for i in range(5):
@@ -289,9 +326,7 @@ def _descend(f_target, q, f, K, total, n_loaded, warn, balls, settings, tol, arm
                 # secant matrix went stale: restart it from the analytic Kb at q
                 ball_loop(q, balls, ft, Kt, None, None)
                 evals += 1
-                for i in range(5):
-                    for j in range(5):
-                        B[i, j] = Kt[i, j] * D[i] * D[j]
+                _scale(Kt, D, B)
                 fresh_jacobian = True
             else:
                 lam = max(lam * 100.0, 1e-8)
@@ -357,16 +392,11 @@ def _minimise_energy(f_target, q, f, K, balls, settings, tol, arm, reach, D, wor
     evals = 1
     total, n_loaded, warn = ball_loop(q, balls, f, K, None, None)
     rmax, r2 = _scaled_residual(f, f_target, D, g)
-    radius = 0.0
-    for i in range(5):
-        radius = max(radius, abs(q[i] / D[i]))
-    radius = max(2.0 * radius, 0.05 * settings.max_step)
+    radius = max(2.0 * _scaled_size(q, D), 0.05 * settings.max_step)
     passes = 0
     for it in range(settings.max_iter + 1):
         while True:
-            for i in range(5):
-                for j in range(5):
-                    Ks[i, j] = K[i, j] * D[i] * D[j]
+            _scale(K, D, Ks)
             floor = _rounding_floor(total, Ks, q, D, arm, reach)
             work[_FLOOR, 0] = floor
             if not (rmax <= max(tol, floor) and warn & BALL_LINEARISED and passes < SETTLE_PASSES):
@@ -454,9 +484,7 @@ def _minimise_energy(f_target, q, f, K, balls, settings, tol, arm, reach, D, wor
         for i in range(5):
             step += (t * dp[i]) ** 2
         step = math.sqrt(step)
-        size = 0.0
-        for i in range(5):
-            size = max(size, abs(q[i] / D[i]))
+        size = _scaled_size(q, D)
         if not step > _EPS * size:
             return STALLED, it, rmax, evals, total, warn
         radius = max(2.0 * step, 0.05 * settings.max_step)
@@ -567,6 +595,9 @@ def solve_case(f_target, q, f, K, balls, settings, warm, work, ball_load, contac
     D = work[_D]
     D[0] = D[1] = D[2] = 1.0
     D[3] = D[4] = 1.0 / settings.length_scale
+    for i in range(5):
+        if (settings.fixed >> i) & 1:
+            D[i] = 0.0  # a fixed degree of freedom: f_target holds its displacement, the residual skips it
     finite = True
     for i in range(5):
         finite = finite and math.isfinite(f_target[i]) and (not warm or math.isfinite(q[i]))
@@ -610,6 +641,7 @@ def solve_case(f_target, q, f, K, balls, settings, warm, work, ball_load, contac
         iterations += it
     for attempt in range(2):
         if warm and attempt == 0:
+            _impose(q, f_target, D)
             total, n_loaded, warn = ball_loop(q, balls, f, K, None, None)
             ev = 1
         elif attempt == 1 and not warm:
@@ -621,6 +653,7 @@ def solve_case(f_target, q, f, K, balls, settings, warm, work, ball_load, contac
             # no load and no ball loaded at rest (no preload): q = 0, f = 0, Kb = 0 exactly
             for i in range(5):
                 q[i] = 0.0
+            _impose(q, f_target, D)
             settled_loop(q, balls, f, K, ball_load, contact_angle)
             take_linearised(spin, False)
             return SolveOutcome(UNLOADED, 0, 0.0, evals + 1)

@@ -266,13 +266,15 @@ def substitution_status(f, K):
 
 #: Rows of the predictor scratch (PREDICTOR_ROWS, 5) of a map's group: the tangent's right-hand side and
 #: step, the 5x5 factor and permutation, and the previous case's tangent step (the earlier slope).
-PREDICTOR_ROWS = 9
-_RHS, _STEP, _FACTOR, _PERM, _SLOPE = 0, 1, 2, 7, 8
+PREDICTOR_ROWS = 14
+_RHS, _STEP, _FACTOR, _PERM, _SLOPE, _REDUCED = 0, 1, 2, 7, 8, 9
 
 
 @njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
-def tangent_predictor(given_load, target, q_prev, f_prev, K_prev, q, scratch):
+def tangent_predictor(given_load, target, q_prev, f_prev, K_prev, q, scratch, fixed):
     """Start for the next case of a line: q_prev + Kb^-1 (f_target - f_prev); True where that step was taken.
+    With ``fixed`` degrees of freedom (a bitmask; their target entries hold the displacements, mm or rad) the
+    reduced system's: the free steps solve K_ff dq_f = df_f - K_fi dq_i (rows _REDUCED.. hold that K).
 
     The neighbour's Kb is already computed, so this Euler step along the line
     costs one 5x5 solve and no kernel evaluation; it is second-order accurate
@@ -287,7 +289,26 @@ def tangent_predictor(given_load, target, q_prev, f_prev, K_prev, q, scratch):
     step = scratch[_STEP]
     for d in range(5):
         rhs[d] = target[d] - f_prev[d]
-    if not stiffness_solve(K_prev, 0.0, rhs, step, scratch[_FACTOR:_PERM], scratch[_PERM]):
+    K_step = K_prev
+    if fixed != 0:
+        K_step = scratch[_REDUCED:_REDUCED + 5]
+        big = 0.0
+        for d in range(5):
+            for e in range(5):
+                K_step[d, e] = K_prev[d, e]
+            if not (fixed >> d) & 1:
+                big = max(big, abs(K_prev[d, d]))
+        for d in range(5):
+            if (fixed >> d) & 1:
+                dv = target[d] - q_prev[d]
+                for e in range(5):
+                    if not (fixed >> e) & 1:
+                        rhs[e] -= K_prev[e, d] * dv
+                    K_step[d, e] = 0.0
+                    K_step[e, d] = 0.0
+                K_step[d, d] = big if big > 0.0 else 1.0
+                rhs[d] = K_step[d, d] * dv
+    if not stiffness_solve(K_step, 0.0, rhs, step, scratch[_FACTOR:_PERM], scratch[_PERM]):
         return False
     for d in range(5):
         if not np.isfinite(step[d]):
@@ -413,7 +434,7 @@ def map_runs(runs, inputs, given_load, segments, results, balls, speeds, ball_ro
             if warm:
                 keep_slope(predictor)  # the previous case's tangent step: the earlier solution's slope
                 took_tangent = tangent_predictor(given_load, inputs[i], q[i - 1], f[i - 1], K[i - 1], q[i],
-                                                 predictor)
+                                                 predictor, settings.fixed)
                 if given_load and i - 1 > segments[run] and (status[i - 2] & OUTCOME_MASK) == CONVERGED:
                     curved_predictor(inputs[i], inputs[i - 1], inputs[i - 2], q[i - 1], q[i - 2], q[i],
                                      predictor[_SLOPE], slope_known)
@@ -433,7 +454,8 @@ def map_runs(runs, inputs, given_load, segments, results, balls, speeds, ball_ro
                     L10r[i] = case_life(ball_load, ball_load[n_elements:], ball_row, life, sums, L10r_row[i])
                 else:
                     L10r[i] = case_life(ball_load, None, ball_row, life, sums, L10r_row[i])
-                safety[i] = static_safety(inputs[i] if given_load else f[i], life, C0)
+                # the reached load: with fixed degrees of freedom the inputs hold displacements there
+                safety[i] = static_safety(inputs[i] if given_load and settings.fixed == 0 else f[i], life, C0)
             else:
                 L10r[i] = np.nan
                 safety[i] = np.nan

@@ -15,7 +15,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import validate
+from .. import boundary, validate
+from ..dofs import DISPLACEMENT_NAMES, DISPLACEMENT_UNITS
 
 #: Most values one axis may have, and most cases one map may have (about 3.5 TB of results): a bigger
 #: map is refused before anything is allocated; split it into several maps.
@@ -307,3 +308,41 @@ def _split_lines(shape: tuple[int, ...], chunk: int) -> list[Block]:
             b = min(a + step, n)
             blocks.append(Block(len(blocks), base + a, base + b, tuple(int(i) for i in lead) + (slice(a, b),)))
     return blocks
+
+
+def fixed_mask(spec: dict, given: str, names, where: str) -> int:
+    """A job table's ``fixed = { bx = 0.0, by = { start, stop, num } }``: the bitmask of the degrees of freedom
+    held at given displacements (each a number or an axis, mm or rad; boundary.py); their load axes must be
+    absent. 0 without ``fixed``. ValueError naming the field otherwise."""
+    if "fixed" not in spec:
+        return 0
+    if given != "load":
+        raise ValueError(f"{where}.fixed goes with given = \"load\" (with given = \"displacement\" every degree "
+                         "of freedom is given)")
+    table = spec["fixed"]
+    if not isinstance(table, dict) or not table:
+        raise validate.FieldError(f"{where}.fixed", "must be a table of displacements, e.g. { bx = 0.0, by = 0.0 } "
+                                  "(dx, dy, dz in mm; bx, by in rad; each a number or an axis)", table)
+    held = boundary.parse_fixed({k: 0.0 for k in table}, where=f"{where}.fixed")  # names, and not all five
+    for name in held.names:
+        load = names[DISPLACEMENT_NAMES.index(name)]
+        if load in spec:
+            raise ValueError(f"{where}.{load} must be absent where {name} is fixed (the {load} there is the "
+                             "reaction the solve finds)")
+    return held.mask
+
+
+def input_axes(spec: dict, names, units, fixed: int, where: str) -> tuple:
+    """The five input axes of a grid (load or displacement names and units), each from ``spec`` (a number or
+    an axis, absent: 0); a fixed degree of freedom's (bit i of ``fixed``) is its displacement from
+    ``spec["fixed"]``, named and in units as a displacement (mm, rad): its column holds the solver's value."""
+    axes = []
+    for i, (name, unit) in enumerate(zip(names, units)):
+        if (fixed >> i) & 1:
+            held = DISPLACEMENT_NAMES[i]
+            values, is_dim = parse_axis(held, spec["fixed"][held], f"{where}.fixed")
+            axes.append(Axis(held, values, DISPLACEMENT_UNITS[i], is_dim))
+        else:
+            values, is_dim = parse_axis(name, spec.get(name, 0.0), where)
+            axes.append(Axis(name, values, unit, is_dim))
+    return tuple(axes)

@@ -23,8 +23,9 @@ from .. import validate
 from ..api import solver_settings
 from ..model.bearing import Bearing, check_speed, check_speed_model
 from ..model.bearing_file import read_job_config
+from .. import boundary
 from ..dofs import AXES, UNITS
-from .grid import Axis, CaseSet, parse_axis, read_case_file, segment_starts
+from .grid import Axis, CaseSet, fixed_mask, input_axes, parse_axis, read_case_file, segment_starts
 from .runner import open_dataset  # noqa: F401 (public: fb.open_dataset)
 from ..analysis.life import LifeSettings, life_table, ratings
 from ..engine.sweep import map_sweep
@@ -32,7 +33,7 @@ from ..engine.sweep import map_sweep
 DEFAULT_CHUNK = 65536
 #: Largest block: one block's results are in memory at once (about 400 bytes a case).
 MAX_CHUNK = 4_000_000
-_LOADMAP_KEYS = {"given", "cases", "chunk", "compression", "method", "rtol", "max_iter", "life", "speed"}
+_LOADMAP_KEYS = {"given", "cases", "chunk", "compression", "method", "rtol", "max_iter", "life", "speed", "fixed"}
 
 
 @dataclass(frozen=True)
@@ -50,6 +51,8 @@ class LoadMapConfig:
     source: Path | None
     fingerprint: str
     life: LifeSettings | None = None
+    #: Degrees of freedom given as displacements (boundary.Fixed.mask; 0: every load given).
+    fixed: int = 0
 
 
 def read_life(spec, where: str) -> LifeSettings | None:
@@ -87,7 +90,11 @@ def read_config(config) -> LoadMapConfig:
     except validate.FieldError as err:
         raise err.within("loadmap") from None
     digest = hashlib.sha256(text.encode())
+    fixed = fixed_mask(spec, given, names, "loadmap")
     if "cases" in spec:
+        if fixed:
+            raise ValueError("loadmap.fixed goes with grid axes (a case table holds loads only); give the fixed "
+                             "values in [loadmap] fixed, each a number or an axis")
         axes_given = [k for k in spec if k in names or k == "speed"]
         if axes_given:
             raise ValueError(f"loadmap.cases replaces the grid axes; remove {axes_given}")
@@ -100,10 +107,7 @@ def read_config(config) -> LoadMapConfig:
         digest.update(table.tobytes())
         cases = CaseSet(given, table=table)
     else:
-        axes = []
-        for name, units in zip(names, UNITS[given]):
-            values, is_dim = parse_axis(name, spec.get(name, 0.0), "loadmap")
-            axes.append(Axis(name, values, units, is_dim))
+        axes = list(input_axes(spec, names, UNITS[given], fixed, "loadmap"))
         speed = None
         if "speed" in spec:
             values, is_dim = parse_axis("speed", spec["speed"], "loadmap")
@@ -121,7 +125,8 @@ def read_config(config) -> LoadMapConfig:
     if life_settings is not None:
         ratings(bearing)  # a bearing without geometry has no rating: said before anything runs
     return LoadMapConfig(bearing, cases, chunk, compression, method, rtol, max_iter, text, source,
-                         digest.hexdigest(), life_settings)
+                         digest.hexdigest(), life_settings, fixed)
+
 
 
 def compute_block(bearing: Bearing, given_load: bool, line_length: int, settings, life, spinning: bool,
@@ -155,16 +160,20 @@ def compute_block(bearing: Bearing, given_load: bool, line_length: int, settings
 
 def job(cfg: LoadMapConfig) -> jobs.Job:
     """The load map as a job for the runner."""
-    settings = solver_settings(cfg.bearing, cfg.method, cfg.rtol, cfg.max_iter)
+    settings = solver_settings(cfg.bearing, cfg.method, cfg.rtol, cfg.max_iter, cfg.fixed)
     given_load = cfg.cases.given == "load"
     variables = storage.result_variables(cfg.cases.given)
     life = None
     attrs = {}
+    if cfg.fixed:
+        attrs["fixed_dofs"] = ", ".join(boundary.names(cfg.fixed))
+        attrs["fixed_note"] = ("the degrees of freedom in fixed_dofs are given as displacements (their grid axes, "
+                               "mm or rad); f holds the reactions there (N, N*mm)")
     if cfg.life is not None:
         r = ratings(cfg.bearing)
         life = (life_table(r, cfg.life), r.C0 if r.C0 is not None else float("nan"))
         variables += storage.life_variables()
-        attrs = {"life_rotating_ring": cfg.life.rotating, "dynamic_load_rating_N": r.C or float("nan"),
+        attrs |= {"life_rotating_ring": cfg.life.rotating, "dynamic_load_rating_N": r.C or float("nan"),
                  "static_load_rating_N": r.C0 or float("nan"),
                  "row_dynamic_load_rating_N": r.C_row, "contact_rating_inner_N": r.Q_ci,
                  "contact_rating_outer_N": r.Q_ce}

@@ -24,16 +24,16 @@ from . import runner as jobs
 
 from . import storage
 
-from .. import validate
+from .. import boundary, validate
 from ..api import solver_settings
 from ..model.bearing import Bearing, check_speed, check_speed_model, rpm_to_rad_s
 from ..model.bearing_file import read_job_config
 from ..dofs import AXES, K_ENTRIES, K_UNITS, UNITS
 from ..files import publish
-from .grid import Axis, CaseSet, parse_axis
+from .grid import CaseSet, fixed_mask, input_axes
 from ..engine.sweep import passage_sweep
 
-_PASSAGE_KEYS = {"given", "points", "positions", "harmonics", "speed", "shaft_speed", "ball_diameter",
+_PASSAGE_KEYS = {"fixed", "given", "points", "positions", "harmonics", "speed", "shaft_speed", "ball_diameter",
                  "pitch_diameter", "rotating", "method", "rtol", "max_iter", "chunk"}
 #: Most cage positions per period (a sanity bound: 64 resolve the ball-pass harmonics well).
 MAX_POSITIONS = 100_000
@@ -72,6 +72,7 @@ class PassageConfig:
     source: Path | None
     fingerprint: str
     model_speed: float = 0.0  # rpm: above 0 the high-speed balls (fastbearing.engine.high_speed)
+    fixed: int = 0  # degrees of freedom given as displacements (boundary.Fixed.mask)
 
     @property
     def period_order(self) -> int:
@@ -106,19 +107,19 @@ def read_config(config) -> PassageConfig:
         solver_settings(bearing, method, spec.get("rtol"), spec.get("max_iter"))
     except validate.FieldError as err:
         raise err.within("passage") from None
-    axes_given = [k for k in spec if k in names]
+    axes_given = [k for k in spec if k in names or k == "fixed"]
+    fixed = fixed_mask(spec, given, names, "passage")
     if "points" in spec:
+        if fixed:
+            raise ValueError("passage.fixed goes with grid axes (points hold loads only); give the fixed values "
+                             "in [passage] fixed, each a number or an axis, and the loads as axes")
         if axes_given:
             raise ValueError(f"passage.points replaces the grid axes; remove {axes_given}")
         points = validate.array(spec["points"], "passage.points", min_length=1)
         table = np.array([validate.numbers_list(p, f"passage.points[{i}]", 5) for i, p in enumerate(points)])
         cases = CaseSet(given, table=table, table_dim="point")
     elif axes_given:
-        axes = []
-        for name, units in zip(names, UNITS[given]):
-            values, is_dim = parse_axis(name, spec.get(name, 0.0), "passage")
-            axes.append(Axis(name, values, units, is_dim))
-        cases = CaseSet(given, axes=tuple(axes), table_dim="point")
+        cases = CaseSet(given, axes=input_axes(spec, names, UNITS[given], fixed, "passage"), table_dim="point")
         if not cases.dims:  # constants only: one operating point
             cases = CaseSet(given, table=cases.inputs(0, 1), table_dim="point")
     else:
@@ -153,7 +154,7 @@ def read_config(config) -> PassageConfig:
                           math.radians(bearing.rows[0].contact_angle), g.rotating)
     digest = hashlib.sha256(text.encode()).hexdigest()
     return PassageConfig(bearing, cases, positions, harmonics, speed, method, spec.get("rtol"),
-                         spec.get("max_iter"), chunk, text, source, digest, model_speed)
+                         spec.get("max_iter"), chunk, text, source, digest, model_speed, fixed)
 
 
 def fourier(K: np.ndarray, harmonics: int) -> tuple[np.ndarray, np.ndarray]:
@@ -225,6 +226,10 @@ def job(cfg: PassageConfig) -> jobs.Job:
             "position")]
     attrs = {"period_rad": cfg.period, "period_order": cfg.period_order, "positions": cfg.positions,
              "n_points": cfg.cases.n_cases, "speed_rpm": cfg.model_speed}
+    if cfg.fixed:
+        attrs.update(fixed_dofs=", ".join(boundary.names(cfg.fixed)),
+                     fixed_note="the degrees of freedom in fixed_dofs are given as displacements (their axes, mm "
+                                "or rad); f holds the reactions there (N, N*mm)")
     if cfg.speed is not None:
         fc = cfg.speed.cage_frequency
         aux.append((C("time", cfg.cage_angles / (2 * math.pi * fc), "s", "time from position 0"), "position"))
@@ -234,7 +239,7 @@ def job(cfg: PassageConfig) -> jobs.Job:
                      ball_diameter_mm=cfg.speed.ball_diameter, pitch_diameter_mm=cfg.speed.pitch_diameter,
                      cage_frequency_hz=fc, ball_pass_frequency_hz=cfg.period_order * fc)
     tables = np.ascontiguousarray(np.stack([cfg.bearing.ball_table(a) for a in cfg.cage_angles]))
-    settings = solver_settings(cfg.bearing, cfg.method, cfg.rtol, cfg.max_iter)
+    settings = solver_settings(cfg.bearing, cfg.method, cfg.rtol, cfg.max_iter, cfg.fixed)
     # None without roller rows: the sweep then compiles no roller code
     slice_tables = (np.ascontiguousarray(np.stack([cfg.bearing.slice_table(a) for a in cfg.cage_angles]))
                     if cfg.bearing.roller_rows else None)
