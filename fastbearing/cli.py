@@ -408,6 +408,9 @@ def _shaft(args) -> int:
     print(f"shaft: status {out['status']}; reference z = {shaft.reference:g} mm"
           + (f"; speed {speed:g} rpm" if speed > 0 else ""))
     print("q at the reference (mm, mm, mm, rad, rad): " + "  ".join(f"{v:.6g}" for v in out["q"]))
+    if out.get("fixed"):
+        print(f"fixed at the reference: {', '.join(out['fixed'])}; the holder's reaction there (N, N, N, N*mm, N*mm) "
+              + "  ".join(f"{v:.6g}" for v in out["holder_reaction"]))
     print(_matrix("K_system at the reference", result.K_system))
     for i, b in enumerate(result.bearings):
         name = shaft.bearings[i].name or f"bearing {i}"

@@ -196,3 +196,29 @@ def test_bad_fixed_input_is_refused_naming_the_field(tmp_path):
     with pytest.raises(ValueError, match=r"loadmap\.fixed goes with given = \"load\""):
         fb.loadmap(cfg, tmp_path / "x.h5", progress=False)
     assert not (tmp_path / "x.h5").exists()
+
+
+def test_a_shaft_held_square_at_its_reference_balances_with_the_holder(tmp_path):
+    """[shaft] fixed: the gearbox shaft with its tilt held at the reference; the bearings' reactions carried
+    to the reference plus the holder's add up to the external load, and the command line reports both."""
+    from fastbearing.analysis.shaft import read_shaft, solve_shaft, transfer
+    from fastbearing.cli import main
+
+    text = (Path(__file__).parents[1] / "data" / "examples" / "gearbox-tapered-pair.toml").read_text()
+    text = text.replace("../bearings/", str(DATA) + "/").replace(
+        "reference = 0.0 ", "fixed = { bx = 0.0, by = 0.0 }\nreference = 0.0 ")
+    path = tmp_path / "held.toml"
+    path.write_text(text)
+    shaft = read_shaft(path)
+    r = solve_shaft(shaft)
+    assert r.solution.converged and r.q[3] == 0.0 and r.q[4] == 0.0
+    total = r.holder_reaction.copy()
+    for b in r.bearings:
+        total += transfer(b.position - shaft.reference).T @ b.reaction
+    assert np.allclose(total, shaft.external_load(), rtol=1e-9, atol=1e-6)
+    assert abs(r.holder_reaction[4]) > 1000.0 and r.holder_reaction[:3].tolist() == [0.0, 0.0, 0.0]
+    assert main(["shaft", str(path), "--json"]) == 0
+    bad = text.replace("fixed = { bx = 0.0, by = 0.0 }", "fixed = { tilt = 0.0 }")
+    path.write_text(bad)
+    with pytest.raises(ValueError, match=r"shaft\.fixed\.tilt is not a degree of freedom"):
+        read_shaft(path)

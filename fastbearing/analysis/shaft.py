@@ -19,7 +19,9 @@ from pathlib import Path
 
 import numpy as np
 
+from .. import boundary
 from ..api import SolveResult, direct, solve
+from ..dofs import DISPLACEMENT_NAMES
 from .. import validate
 from ..model.bearing import Bearing, check_speed, check_speed_model
 from ..model.bearing_file import bearing_from_table, load_bearing, read_toml
@@ -97,6 +99,9 @@ class Shaft:
     loads: tuple[PointLoad, ...] = ()
     inertia: Inertia | None = None
     speed: float = 0.0  # rpm: above 0 every bearing's balls run the high-speed model
+    #: Degrees of freedom of the shaft held at the reference ({name: mm or rad}; boundary.py): a coupling or
+    #: a guide takes the external load there, and reports its reaction.
+    fixed: dict | None = None
 
     def __post_init__(self):
         if not self.bearings:
@@ -160,6 +165,9 @@ class ShaftResult:
     bearings: tuple[BearingState, ...]
     reference: float
     speed: float = 0.0  # rpm
+    #: The load the shaft puts on what holds its fixed degrees of freedom (N, N*mm at the reference; 0 at the
+    #: free ones): with the bearings' reactions it adds up to the external load.
+    holder_reaction: np.ndarray | None = None
 
     @property
     def q(self) -> np.ndarray:
@@ -167,11 +175,15 @@ class ShaftResult:
 
     def to_dict(self) -> dict:
         """JSON-ready: q, K_system, status, converged and per bearing position, reaction, q, K."""
-        return {"reference": self.reference, "speed": self.speed, "q": self.q.tolist(),
-                "K_system": self.K_system.tolist(),
+        out = {"reference": self.reference, "speed": self.speed, "q": self.q.tolist(),
+               "K_system": self.K_system.tolist(),
                 "status": self.solution.status_name, "converged": self.solution.converged,
-                "bearings": [{"position": b.position, "reaction": b.reaction.tolist(), "q": b.q.tolist(),
-                              "K": b.K.tolist()} for b in self.bearings]}
+               "bearings": [{"position": b.position, "reaction": b.reaction.tolist(), "q": b.q.tolist(),
+                             "K": b.K.tolist()} for b in self.bearings]}
+        if self.solution.fixed:
+            out["fixed"] = list(self.solution.fixed)
+            out["holder_reaction"] = self.holder_reaction.tolist()
+        return out
 
 
 def solve_shaft(shaft: Shaft, method: str = "newton", speed: float | None = None) -> ShaftResult:
@@ -187,14 +199,23 @@ def solve_shaft(shaft: Shaft, method: str = "newton", speed: float | None = None
     if speed > 0:
         shaft.check_speed_model(speed)
     combined = shaft.as_bearing(at_speed=speed > 0)
-    result = solve(combined, shaft.external_load(), method=method, speed=speed)
+    external = shaft.external_load()
+    held = boundary.parse_fixed(shaft.fixed, where="shaft.fixed")
+    load = external.copy()
+    for name in held.names:  # the holder takes the external load there: the bearings see what the solve finds
+        load[DISPLACEMENT_NAMES.index(name)] = 0.0
+    result = solve(combined, load, method=method, speed=speed, fixed=shaft.fixed)
     states = []
     for mb in shaft.bearings:
         q_local = transfer(mb.position - shaft.reference) @ result.q
         # direct, not stiffness: a solve that did not converge still returns its last iterate, with its status
         f, K, _ = direct(mb.bearing, q_local, speed=speed)
         states.append(BearingState(mb.position, q_local, f, K))
-    return ShaftResult(result, result.K, tuple(states), shaft.reference, speed)
+    holder = np.zeros(5)
+    for name in held.names:  # the bearings' reaction there against the external load: the holder's share
+        i = DISPLACEMENT_NAMES.index(name)
+        holder[i] = external[i] - result.f[i]
+    return ShaftResult(result, result.K, tuple(states), shaft.reference, speed, holder)
 
 
 def shaft_life(shaft: Shaft, result: ShaftResult, settings=None) -> dict:
@@ -250,7 +271,7 @@ def natural_frequencies(K: np.ndarray, M: np.ndarray, diagonal_only: bool = Fals
 
 # -- config files -------------------------------------------------------------------
 
-_SHAFT_KEYS = {"reference", "bearings", "loads", "mass", "speed"}
+_SHAFT_KEYS = {"reference", "bearings", "loads", "mass", "speed", "fixed"}
 _BEARING_KEYS = {"position", "bearing", "mirrored", "name"}
 _LOAD_KEYS = {"position", "force", "moment"}
 _MASS_KEYS = {"mass", "inertia_x", "inertia_y", "center"}
@@ -309,7 +330,9 @@ def read_shaft(config) -> Shaft:
         raise v.FieldError("shaft.bearings", "must list at least one bearing ([[shaft.bearings]] with position "
                            "and bearing)", show_value=False)
     speed = check_speed(spec.get("speed", 0.0), "shaft.speed")
-    shaft = Shaft(reference, tuple(bearings), tuple(loads), inertia, speed)
+    fixed = spec.get("fixed")
+    boundary.parse_fixed(fixed, where="shaft.fixed")  # checked before anything runs
+    shaft = Shaft(reference, tuple(bearings), tuple(loads), inertia, speed, fixed)
     if speed > 0:
         shaft.check_speed_model(speed)
     return shaft

@@ -258,7 +258,8 @@ def radial_load_note(rows, load) -> str:
     return (f"no solution: a tapered roller row's fixed contact normal turns the radial load Fr = {Fr:g} N into an "
             f"axial one, so it holds Fr only with an axial load of at least Fr tan(a) = {need:g} N on its contact "
             f"side ({side}); Fz = {float(load[2]):g} N. Give the axial load the mounting carries (the other "
-            "bearing's reaction), or hold the axial displacement: solve --displacement")
+            "bearing's reaction), or hold the axial displacement: --fix dz=0 (Python: fixed={'dz': 0.0}) finds the "
+            "axial reaction")
 
 
 def radial_clearance_floor(contact_angle: float, limit: float, axial_preload: float = 0.0) -> float:
