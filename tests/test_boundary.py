@@ -80,9 +80,10 @@ def test_fixing_the_values_the_all_load_solve_found_reproduces_it():
         assert r.converged
         for n, v in fixed.items():
             assert r.q[("dx", "dy", "dz", "bx", "by").index(n)] == v
-        assert np.abs(r.q - a.q).max() <= 1e-9 * np.abs(a.q).max()
-        assert np.abs(r.K - a.K).max() <= 1e-8 * np.abs(a.K).max()
-        assert np.allclose(r.f, load, rtol=1e-8, atol=1e-6)
+        # the same solution, reached on the reduced system: to rounding (measured at most 4.4e-13)
+        assert np.abs(r.q - a.q).max() <= 1e-11 * np.abs(a.q).max()
+        assert np.abs(r.K - a.K).max() <= 1e-11 * np.abs(a.K).max()
+        assert np.abs(r.f - load).max() <= 1e-11 * np.abs(load).max()
 
 
 def test_broyden_and_solve_many_with_per_case_values_agree_with_single_newton_solves():
