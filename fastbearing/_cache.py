@@ -100,3 +100,61 @@ def ensure_fresh() -> None:
         except OSError:
             # read-only location: numba does not write there either
             pass
+
+
+#: What a run that starts compiling says, once per process (the estimate: bench/README.md, compile times).
+COMPILE_NOTICE = ("fastbearing: compiling the kernels for this kind of run (one time: about 15-60 s on 2 cores; "
+                  "later runs load them from numba's cache)")
+_told = False
+
+
+class CompileWatch:
+    """While active, notices numba compiling (its compile events): the first compilation in the process says
+    so on stderr before the wait (``notice``: the line; None: say nothing), and ``seconds`` sums the time spent
+    compiling (outermost compilations only), so that a summary can report it apart from the work."""
+
+    def __init__(self, notice: str | None = COMPILE_NOTICE):
+        self.notice = notice
+        self.seconds = 0.0
+        self._depth = 0
+        self._started = 0.0
+
+    def __enter__(self) -> "CompileWatch":
+        from numba.core import event
+
+        watch = self
+
+        class _Listener(event.Listener):
+            def on_start(self, ev):
+                watch._start()
+
+            def on_end(self, ev):
+                watch._end()
+
+        self._listener = _Listener()
+        event.register("numba:compile", self._listener)
+        return self
+
+    def __exit__(self, *exc) -> None:
+        from numba.core import event
+
+        event.unregister("numba:compile", self._listener)
+
+    def _start(self) -> None:
+        import sys
+        import time
+
+        global _told
+        if self._depth == 0:
+            self._started = time.perf_counter()
+            if self.notice and not _told:
+                _told = True
+                print(self.notice, file=sys.stderr, flush=True)
+        self._depth += 1
+
+    def _end(self) -> None:
+        import time
+
+        self._depth -= 1
+        if self._depth == 0:
+            self.seconds += time.perf_counter() - self._started

@@ -7,9 +7,11 @@ from __future__ import annotations
 
 import argparse
 import errno
+import importlib.util
 import json
 import math
 import sys
+import warnings
 
 import numpy as np
 
@@ -173,10 +175,14 @@ def build_parser() -> argparse.ArgumentParser:
     ex = sub.add_parser("export", help="write Kb for other tools: csv, json, npz, Nastran DMIG, ROSS",
                         description=(
                             "Export Kb from a `solve --json` or `shaft --json` output (.json) or from a load map "
-                            "or ball-passage file (.h5). DOF order x, y, z, tx, ty; units N/mm, N*mm/rad, N/rad "
-                            "(ROSS: SI, N/m). csv/json/npz take every case of a file, each with its coordinates (Fx ... My "
-                            "or dx ... by, with units); dmig and ross take one (--case, the flat case index, or "
-                            "--at, the nearest grid point)."))
+                            "or ball-passage file (.h5). DOF order x, y, z, tx, ty (z: the shaft axis); units N, mm, "
+                            "rad: Kb in N/mm, N*mm/rad, N/rad (ROSS: SI, N/m). A shaft's output holds several "
+                            "matrices: pick one bearing's Kb with --bearing or the shaft's K_system with --system; "
+                            "every output says which matrix it holds. csv/json/npz take every case of a file, "
+                            "each with its coordinates (Fx ... My or dx ... by, with units) and status (code and "
+                            "name); CSV column names end in their units (Fx_N, kxx_N_per_mm) under one header row. "
+                            "dmig and ross take one case (--case, the flat case index, or --at, the nearest grid "
+                            "point)."))
     ex.add_argument("source", metavar="SOURCE", help="a .json from solve/shaft --json, or a .h5 map or table")
     ex.add_argument("--format", required=True, choices=EXPORT_FORMATS, help="output format")
     ex.add_argument("-o", "--output", required=True, metavar="OUT", help="output file")
@@ -184,10 +190,19 @@ def build_parser() -> argparse.ArgumentParser:
     ex.add_argument("--at", metavar="AXIS=VALUE,...", default=None,
                     help="the case of a .h5 source nearest to these coordinates, every varying axis named in "
                          "its units (N, N*mm; mm, rad), e.g. --at Fx=1000,Fz=3000,My=0; a table's own dims "
-                         "by index: --at point=3,position=0")
-    ex.add_argument("--grid", type=int, default=1, metavar="ID", help="DMIG: grid of the inner ring (default 1)")
+                         "by index: --at point=3,position=0; a value outside an axis' range is refused")
+    ex.add_argument("--bearing", default=None, metavar="NAME|N",
+                    help="shaft --json source: export this bearing's own Kb (about its centre; N/mm, N*mm/rad, "
+                         "N/rad), by its name or its index in the JSON's bearings list")
+    ex.add_argument("--system", action="store_true",
+                    help="shaft --json source: export the shaft's system stiffness K_system at its reference "
+                         "point (N/mm, N*mm/rad, N/rad) instead of one bearing's Kb")
+    ex.add_argument("--grid", type=int, default=1, metavar="ID",
+                    help="DMIG: grid of the inner ring (default 1); it must sit at the bearing centre (for "
+                         "--system: the shaft's reference point) with z along the shaft axis")
     ex.add_argument("--ground-grid", type=int, default=None, metavar="ID",
-                    help="DMIG: second grid (outer ring); writes the 10x10 spring between the two")
+                    help="DMIG: second grid (outer ring); writes the 10x10 spring between the two, which holds "
+                         "only for coincident grids")
     ex.add_argument("--name", default="KBRG", help="DMIG matrix name (default KBRG)")
     ex.add_argument("--node", type=int, default=0, metavar="N", help="ROSS: shaft node of the bearing")
     ex.add_argument("--overwrite", action="store_true", help="replace an existing output file")
@@ -288,7 +303,8 @@ def _add_plot_parsers(sub) -> None:
         q.add_argument("--dpi", type=int, default=100, help="pixels per inch (default 100)")
         if file:
             q.add_argument("--at", metavar="NAME=VALUE,...", help="fix the other axes at the nearest grid values "
-                           "(default: the middle value for maps, the first operating point for passage tables)")
+                           "(default: the middle value for maps, the first operating point for passage tables); "
+                           "a value beyond an axis' first or last grid value is refused")
             q.add_argument("--base-units", action="store_true", help="label in N, mm, rad without prefixes")
 
     m = kinds.add_parser("map", help="contour or heat map of one variable over two axes of a load map")
@@ -309,7 +325,7 @@ def _add_plot_parsers(sub) -> None:
     common(ps)
     ps.add_argument("--var", default="kxx,kzz,ktyty", help="comma-separated entries (default kxx,kzz,ktyty)")
     ps.add_argument("--x", choices=PASSAGE_X, default="angle",
-                    help="cage angle (rad), fraction of the period, or time (s; needs a shaft speed)")
+                    help="cage angle (deg in the picture; --base-units: rad), fraction of the period, or time (s; needs a shaft speed)")
     ps.add_argument("--normalise", choices=NORMALISE, default="none",
                     help="divide by the value at position 0 (the paper's Fig. 13) or by the mean (default none)")
     sp = kinds.add_parser("spectrum", help="harmonic amplitudes of Kb entries of a passage table")
@@ -334,8 +350,11 @@ def _optional(run):
     def command(args) -> int:
         try:
             return run(args)
-        except ImportError as err:
-            raise ValueError(f"{err} (pip install 'fastbearing[plot]')") from None
+        except ImportError:
+            missing = [m for m in ("matplotlib", "xarray", "h5netcdf") if importlib.util.find_spec(m) is None]
+            raise ValueError(f"fastbearing {args.command} needs the plot extra ({', '.join(missing) or 'matplotlib'} "
+                             "missing): pip install \".[plot]\" in the repository's folder (as the README "
+                             "installs it)") from None
     return command
 
 
@@ -455,7 +474,8 @@ def _export(args) -> int:
         raise ValueError("--grid, --ground-grid and --name go with --format dmig")
     if args.format != "ross" and args.node != 0:
         raise ValueError("--node goes with --format ross")
-    source = export.read_source(args.source, args.case, None if args.at is None else export.parse_at(args.at))
+    source = export.read_source(args.source, args.case, None if args.at is None else export.parse_at(args.at),
+                                bearing=args.bearing, system=args.system)
     if source.picked:
         print(f"fastbearing: {source.picked}", file=sys.stderr)
     K = source.K[0] if source.K.ndim == 3 and len(source.K) == 1 else source.K
@@ -473,17 +493,21 @@ def _export(args) -> int:
         print(f"fastbearing: warning: {len(bad)} of {len(source.status)} cases did not converge "
               f"(first: case {bad[0]}, {source.status[bad[0]]}); their Kb is written as computed",
               file=sys.stderr)
+    codes = None if source.codes is None else (source.codes[0] if np.ndim(K) == 2 else source.codes)
     if args.format == "csv":
-        export.write_csv(out, K, overwrite=args.overwrite, coords=source.coords)
+        export.write_csv(out, K, overwrite=args.overwrite, coords=source.coords, status=codes,
+                         matrix=source.matrix)
     elif args.format == "json":
-        export.write_json(out, K, overwrite=args.overwrite, extra=source.extra, coords=source.coords)
+        export.write_json(out, K, overwrite=args.overwrite, extra=source.extra, coords=source.coords,
+                          status=codes, matrix=source.matrix)
     elif args.format == "npz":
-        export.write_npz(out, K, overwrite=args.overwrite, coords=source.coords)
+        export.write_npz(out, K, overwrite=args.overwrite, coords=source.coords, status=codes,
+                         matrix=source.matrix)
     elif args.format == "dmig":
         if args.grid < 1 or (args.ground_grid is not None and (args.ground_grid < 1 or args.ground_grid == args.grid)):
             raise ValueError("--grid and --ground-grid must be different positive grid ids")
         export.write_dmig(out, K, grid=args.grid, name=args.name, ground_grid=args.ground_grid,
-                          overwrite=args.overwrite)
+                          overwrite=args.overwrite, matrix=source.matrix, centre=source.centre)
     else:
         if args.node < 0:
             raise ValueError(f"--node must be a shaft node number >= 0, got {args.node}")
@@ -491,10 +515,10 @@ def _export(args) -> int:
 
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
-            export.write_ross(out, K, node=args.node, overwrite=args.overwrite)
+            export.write_ross(out, K, node=args.node, overwrite=args.overwrite, matrix=source.matrix)
         for w in caught:
             print(f"fastbearing: warning: {w.message}", file=sys.stderr)
-    print(f"fastbearing: wrote {out}", file=sys.stderr)
+    print(f"fastbearing: wrote {out} ({source.matrix})", file=sys.stderr)
     return 0
 
 
@@ -560,8 +584,9 @@ def _rollers_text(records: list[dict]) -> str:
              "middle" + ("; largest Hertz line-contact pressure p (MPa = N/mm^2) at the inner and outer raceway"
                          if pressures else "; no [bearing.geometry]: no contact pressures") + "):", head]
     for r in records:
+        loaded = r["load"] > 0  # an unloaded roller has no largest slice load: no place to print (not an edge)
         line = (f"{r['row']:3d} {r['roller']:6d} {math.degrees(r['azimuth']):9.3f} {r['load']:11.6g} "
-                f"{r['max_slice_load']:11.5g} {r['max_slice_position']:8.3f}")
+                + (f"{r['max_slice_load']:11.5g} {r['max_slice_position']:8.3f}" if loaded else f"{'':11s} {'':8s}"))
         if pressures:
             line += f" {r['inner_max_pressure']:10.1f} {r['outer_max_pressure']:10.1f}"
         lines.append(line)
@@ -716,6 +741,11 @@ def _life_text(life: dict) -> str:
     return "\n".join(lines)
 
 
+def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    """A warning on the command line: one line, as fastbearing says everything else (not Python's format)."""
+    print(f"fastbearing: warning: {message}", file=sys.stderr)
+
+
 def main(argv=None) -> int:
     parser = build_parser()
     argv = sys.argv[1:] if argv is None else list(argv)
@@ -726,8 +756,13 @@ def main(argv=None) -> int:
         args = parser.parse_args(argv)
         if args.command is None:
             raise _UsageError("fastbearing: give a command: " + ", ".join(sorted(_COMMANDS)))
-        return {"solve": _solve, "bearing": _bearing_command, "loadmap": _loadmap,
-                "passage": _passage, "plot": _plot, "paper": _paper, "shaft": _shaft, "export": _export}[args.command](args)
+        from ._cache import CompileWatch
+
+        # a command that starts compiling says so before the wait, whatever it runs; a unit warning is one line
+        with CompileWatch(), warnings.catch_warnings():
+            warnings.showwarning = _show_warning
+            return {"solve": _solve, "bearing": _bearing_command, "loadmap": _loadmap, "passage": _passage,
+                    "plot": _plot, "paper": _paper, "shaft": _shaft, "export": _export}[args.command](args)
     except DiskFull as err:
         print(str(err), file=sys.stderr)
         return 1

@@ -445,3 +445,101 @@ def test_cli_bearing_errors_are_one_line_exit_2(tmp_path):
         p = run(*args)
         assert p.returncode == 2 and "inner_groove_ratio must be in (0.5, 1)" in p.stderr
         assert "Traceback" not in p.stderr and len(p.stderr.strip().splitlines()) == 1
+
+
+# -- unit slips: implausible values warn (issue 39, item 4) -------------------------------------------
+@pytest.fixture
+def unit_warnings():
+    """Each unit-slip warning fires once per distinct message in a process: start each test afresh."""
+    from fastbearing.model import ball_row
+
+    ball_row.forget_unit_warnings()
+    yield
+    ball_row.forget_unit_warnings()
+
+
+def _unit_slips(record):
+    return [w for w in record if issubclass(w.category, UserWarning) and "implausib" in str(w.message)]
+
+
+@pytest.mark.parametrize("changes, words", [
+    ({"ball_diameter": 0.0115, "pitch_diameter": 0.0435},
+     "ball_diameter = 0.0115 mm is implausible for a bearing ball (below 0.5 mm): probably metres "
+     "(0.0115 m = 11.5 mm); give it in mm"),
+    ({"ball_diameter": 0.4375, "pitch_diameter": 1.7126},
+     "ball_diameter = 0.4375 mm is implausible for a bearing ball (below 0.5 mm): probably inches "
+     "(0.4375 in = 11.11 mm)"),
+    ({"ball_diameter": 11500.0, "pitch_diameter": 43500.0},
+     "ball_diameter = 11500 mm is implausible for a bearing ball (above 300 mm): probably micrometres "
+     "(11500 um = 11.5 mm)"),
+    ({"contact_angle": 0.2618},
+     "contact_angle = 0.2618 degrees is implausibly small for an angular-contact ball row (below 1 degree): "
+     "probably radians, i.e. 15 degrees; give it in degrees (0 for a deep-groove row)"),
+])
+def test_a_unit_slip_in_catalogue_geometry_warns_once(unit_warnings, changes, words):
+    with pytest.warns(UserWarning, match=re.escape(words)) as record:
+        b = fb.Geometry(**{**GOOD, **changes, "row_spacing": 20.0}).bearing("DB")
+        b.with_rows(radial_clearance=0.0)  # copies of the rows: no second warning
+    slips = _unit_slips(record)
+    assert len(slips) == 1, [str(w.message) for w in slips]
+    assert slips[0].filename == __file__  # it points at the user's line, not into fastbearing
+    assert len(str(slips[0].message).splitlines()) == 1
+
+
+@pytest.mark.parametrize("arrangement", ["single", "DB", "DT"])
+def test_a_contact_angle_in_radians_warns_once_from_a_file_and_from_python(tmp_path, unit_warnings, arrangement):
+    text = GEOMETRY_TOML.format(arrangement=arrangement).replace("contact_angle = 0.0", "contact_angle = 0.2618")
+    with pytest.warns(UserWarning, match=r"contact_angle = 0\.2618 degrees .*probably radians, i\.e\. 15 degrees"
+                      ) as record:
+        fb.load_bearing(write(tmp_path, text))
+    assert len(_unit_slips(record)) == 1
+    words = r"contact_angle = 0\.5236 degrees .*probably radians, i\.e\. 30 degrees"
+    with pytest.warns(UserWarning, match=words) as record:
+        fb.Bearing.preset("gunduz2013", arrangement, contact_angle=0.5236)
+    assert len(_unit_slips(record)) == 1
+    with pytest.warns(UserWarning, match=r"contact_angle = 0\.7 degrees") as record:
+        fb.Row(n_balls=12, hertz_constant=3e5, pitch_radius=30.0, groove_center_distance=0.5, contact_angle=0.7)
+    assert len(_unit_slips(record)) == 1
+    with pytest.warns(UserWarning, match=r"contact_angle = 0\.6 degrees") as record:  # held as two contact pairs
+        b = fb.Bearing.from_rows([dict(element="four_point_ball", n_balls=12, hertz_constant=3e5, pitch_radius=30.0,
+                                       groove_center_distance=0.5, contact_angle=0.6)])
+    assert b.n_rows == 2 and len(_unit_slips(record)) == 1
+
+
+def test_plausible_values_and_a_deep_groove_row_do_not_warn(tmp_path, unit_warnings):
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", UserWarning)
+        fb.Geometry(**GOOD).bearing("single")                                 # a0 = 0: a deep-groove row
+        fb.Geometry(**{**GOOD, "contact_angle": 1.0, "row_spacing": 20.0}).bearing("DB")
+        fb.Geometry(**{**GOOD, "ball_diameter": 0.5, "pitch_diameter": 3.0, "n_balls": 5})
+        fb.Geometry(**{**GOOD, "ball_diameter": 300.0, "pitch_diameter": 2000.0})
+        fb.Row(n_balls=12, hertz_constant=3e5, pitch_radius=30.0, groove_center_distance=0.5, contact_angle=0.0)
+        for path in sorted(BEARINGS.glob("*.toml")):                         # the shipped bearings
+            fb.load_bearing(path)
+        for arrangement in ("single", "DB", "DF", "DT"):
+            fb.Bearing.preset("gunduz2013", arrangement)
+
+
+def test_errors_stay_errors_and_say_the_unit_slip():
+    """A pitch diameter below the ball diameter is an error, as before; far below it the error says which
+    unit it looks like."""
+    with pytest.raises(ValueError, match=re.escape("pitch_diameter must be > ball_diameter (11.5 mm): it looks "
+                                                   "like metres (0.0435 m = 43.5 mm), got 0.0435")):
+        fb.Geometry(**{**GOOD, "pitch_diameter": 0.0435})
+    with pytest.raises(ValueError, match=re.escape("pitch_diameter must be > ball_diameter (11.5 mm), got 11.0")):
+        fb.Geometry(**{**GOOD, "pitch_diameter": 11.0})
+    with pytest.raises(ValueError, match=re.escape("contact_angle must be in [0, 90) degrees")):
+        fb.Geometry(**{**GOOD, "contact_angle": -0.2})
+
+
+def test_no_warning_beside_an_error(unit_warnings):
+    """A row refused for another field says only its error."""
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", UserWarning)
+        with pytest.raises(ValueError, match="radial_clearance must be < A0 cos"):
+            fb.Row(n_balls=12, hertz_constant=3e5, pitch_radius=30.0, groove_center_distance=0.5,
+                   contact_angle=0.3, radial_clearance=1.0)

@@ -79,7 +79,7 @@ def test_passage_cli_resume_and_summary(tmp_path):
         jobs.run(interrupted_after(job, 2), tmp_path / "t.h5", progress=False)
     p = cli_run("passage", cfg, "-o", tmp_path / "t.h5", "--resume", "--csv")
     assert p.returncode == 0, p.stderr
-    assert "9 points x 16 positions, 100.00 % converged" in p.stderr
+    assert "9 points x 16 positions (5 computed in this run, the rest resumed), 100.00 % converged" in p.stderr
     assert len(list(tmp_path.glob("t_point*.csv"))) == 9
     reference = fb.passage(cfg, tmp_path / "ref.h5", progress=False)
     assert_identical(tmp_path / "t.h5", reference)
@@ -125,24 +125,37 @@ def test_progress_bar_counts_every_case(tmp_path, kind, capsys):
     assert "% converged" in err.splitlines()[-1]
 
 
-def test_compiling_is_announced_only_when_it_will_happen(tmp_path, monkeypatch, capsys):
-    """An empty cache: one line says the kernels compile once; a compiled or cached kernel: silence."""
+def test_compiling_is_announced_when_it_happens_for_any_signature(monkeypatch, capsys):
+    """A run says it compiles when numba starts (a new signature of a cached kernel too: a map at speed after
+    a quasi-static one once compiled 61 s in silence), once per process, and times it; a compiled kernel:
+    silence and no time."""
     from numba import njit
 
     from fastbearing import _cache
-    from fastbearing.engine import sweep
 
-    monkeypatch.setattr(_cache, "cache_folder", lambda: tmp_path)      # an empty cache
-    monkeypatch.setattr(sweep, "never_called", njit(lambda: 1), raising=False)
-    assert jobs.needs_compiling("engine.sweep.never_called")
-    sweep.never_called()
-    assert not jobs.needs_compiling("engine.sweep.never_called")          # compiled in this process
-    monkeypatch.undo()
-    fb.loadmap(MAP, tmp_path / "a.h5", progress=False)
-    assert not jobs.needs_compiling("engine.sweep.map_sweep") and "compiling" not in capsys.readouterr().err
-    monkeypatch.setattr(jobs, "needs_compiling", lambda kernel: kernel == "engine.sweep.map_sweep")
-    fb.loadmap(MAP, tmp_path / "b.h5", progress=False)
-    assert f"compiling kernels (one time, about {jobs.COMPILE_SECONDS} s" in capsys.readouterr().err
+    monkeypatch.setattr(_cache, "_told", False)
+    add = njit(lambda x: x + 1)
+    add(1)
+    with _cache.CompileWatch() as watch:
+        add(2)
+    assert watch.seconds == 0.0 and "compiling" not in capsys.readouterr().err
+    with _cache.CompileWatch() as watch:
+        add(2.5)  # another signature: compiles
+    assert watch.seconds > 0.0 and "compiling the kernels" in capsys.readouterr().err
+    with _cache.CompileWatch() as watch:
+        add(1j)
+    assert watch.seconds > 0.0 and "compiling" not in capsys.readouterr().err  # said once
+
+
+def test_the_summary_keeps_compiling_apart_and_says_what_a_resumed_run_computed():
+    from fastbearing.jobs import loadmap
+
+    job = loadmap.job(loadmap.read_config(MAP))
+    n = job.cases.n_cases
+    line = jobs._summary(job, {0: n}, 12.0, n, 0.0, 10.0)
+    assert "10.0 s compiling + 2.00 s computing" in line and f"{n / 2.0:,.0f} solves/s" in line
+    line = jobs._summary(job, {0: n}, 2.0, n // 4, 0.0, 0.0)
+    assert f"({n // 4} computed in this run, the rest resumed)" in line and f"{(n // 4) / 2.0:,.0f} solves/s" in line
 
 
 def test_one_description_of_the_variables_allocates_and_writes(tmp_path):

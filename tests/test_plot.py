@@ -2,6 +2,7 @@
 plotted numbers are the file's; bad input is a ValueError (API) or one line and exit 2 (CLI)."""
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -127,8 +128,10 @@ def test_passage_curve_normalisations(files):
     np.testing.assert_allclose(y, np.append(K, K[0]) / K.mean())
     period = 1 / ds.attrs["ball_pass_frequency_hz"]
     assert xl == "time (ms)" and x[-1] == pytest.approx(period * 1e3)
-    x, y, xl, yl, _ = plot.passage_curve(ds, "ktyty", x="angle")
-    assert x[-1] == pytest.approx(2 * math.pi / 14) and yl.endswith("(MN·mm/rad)") and xl.endswith("(rad)")
+    x, y, xl, yl, _ = plot.passage_curve(ds, "ktyty", x="angle")  # an angle: in degrees (issue 39)
+    assert x[-1] == pytest.approx(360 / 14) and yl.endswith("(MN·mm/rad)") and xl.endswith("(deg)")
+    x, _, xl, _, _ = plot.passage_curve(ds, "ktyty", x="angle", base_units=True)
+    assert x[-1] == pytest.approx(2 * math.pi / 14) and xl.endswith("(rad)")
     ds.close()
 
 
@@ -313,3 +316,103 @@ def test_the_load_zone_of_a_roller_bearing_speaks_of_rollers():
     texts += [ax.get_title() for ax in fig.axes] + [ax.get_xlabel() for ax in fig.axes]
     assert all("ball" not in t for t in texts), texts
     assert any("loaded roller" in t for t in texts) and any("rollers loaded" in t for t in texts)
+
+
+def _svg_texts(fig, path) -> str:
+    """Every text the picture shows, as its SVG file keeps it (svg.fonttype 'none': text stays text)."""
+    import matplotlib as mpl
+
+    with mpl.rc_context({"svg.fonttype": "none"}):
+        fig.savefig(path, format="svg")
+    return path.read_text()
+
+
+def test_every_text_of_a_roller_load_zone_speaks_of_rollers_and_degrees(tmp_path):
+    """Title, panel titles, axis labels, tick labels and legend of a roller bearing's load zone: rollers, never
+    balls, and the azimuth in degrees (issue 39, item 6)."""
+    from pathlib import Path
+
+    bearing = fb.load_bearing(Path(__file__).parents[1] / "data" / "bearings" / "NU205.toml")
+    fig = plot.plot_load_zone(bearing, fb.solve(bearing, [3000.0, 0.0, 0.0, 0.0, 0.0]).q)
+    texts = [t.get_text() for t in fig.findobj(lambda a: hasattr(a, "get_text"))]
+    texts += [t.get_text() for ax in fig.axes for t in ax.get_xticklabels() + ax.get_yticklabels()]
+    assert texts and all("ball" not in t.lower() for t in texts), texts
+    assert fig.get_suptitle().startswith("Load zone of NU205")
+    (ax,) = fig.axes
+    assert "(deg)" in ax.get_xlabel() and "(rad)" not in ax.get_xlabel()
+    assert [t.get_text() for t in ax.get_xticklabels()] == [f"{d}\u00b0" for d in range(0, 360, 45)]
+    svg = _svg_texts(fig, tmp_path / "zone.svg")
+    assert "roller" in svg and "ball" not in svg.lower() and "315\u00b0" in svg and "\u03c0" not in svg
+
+
+def test_a_four_point_load_zone_names_its_balls():
+    """A four-point row's contact pairs say "balls (one contact pair)": its singular is still "ball"."""
+    from pathlib import Path
+
+    bearing = fb.load_bearing(Path(__file__).parents[1] / "data" / "bearings" / "QJ210.toml")
+    fig = plot.plot_load_zone(bearing, fb.solve(bearing, [3000.0, 0.0, 1000.0, 0.0, 0.0]).q, size=(800, 520))
+    texts = [t.get_text() for t in fig.legends[0].get_texts()]
+    assert texts[0].startswith("loaded ball (") and texts[1].startswith("ball positions: every ball of")
+
+
+def test_contact_angles_are_drawn_in_degrees_and_long_labels_do_not_overlap(files):
+    """The speed picture's layout (kxx, kzz, min_contact_angle stacked, one line per series value): the
+    contact angle reads in degrees, and its long label is wrapped so that it keeps clear of kzz's (issue 39)."""
+    ds = fb.open_dataset(files["map"])
+    fig = plot.plot_lines(ds, ["kxx", "kzz", "min_contact_angle"], "Fx", series="Fz", at={"My": 0.0})
+    angle = fig.axes[2].lines[0].get_ydata()
+    stored = ds["min_contact_angle"].sel(My=0.0, Fz=500.0).isel(row=0).values
+    np.testing.assert_allclose(angle, np.degrees(stored))
+    assert fig.axes[2].get_ylabel().replace("\n", " ") == "smallest loaded contact angle (deg)"
+    fig.draw_without_rendering()
+    boxes = [ax.yaxis.label.get_window_extent() for ax in fig.axes[:3]]
+    for upper, lower in zip(boxes, boxes[1:]):
+        assert lower.y1 < upper.y0, (upper, lower)
+    for ax, box in zip(fig.axes[:3], boxes):  # each label within its own panel's height
+        panel = ax.get_window_extent()
+        assert panel.y0 - 1 <= box.y0 and box.y1 <= panel.y1 + 1
+    fig = plot.plot_map(ds, "max_contact_angle", "Fx", "My", at={"Fz": 1000.0})
+    assert fig.axes[1].get_ylabel() == "largest loaded contact angle (deg)"
+    assert plot.plot_map(ds, "max_contact_angle", "Fx", "My", base_units=True).axes[1].get_ylabel().endswith("(rad)")
+    ds.close()
+
+
+def test_a_log_colour_bar_labels_more_than_its_decades(files):
+    """L10r over a map spanning about one and a half decades: the colour bar labels 1, 2, 5 x 10^n, not just
+    the one or two decades (issue 39, item 6)."""
+    ds = fb.open_dataset(files["map"])
+    kzz = ds["K"].isel(dof=2, dof_col=2)
+    ds["L10r"] = 1e9 / kzz ** 1.5 * (1 + 0 * ds["Fx"])  # positive, one to two decades: a stand-in life
+    span = float(np.log10(ds["L10r"].max() / ds["L10r"].min()))
+    assert 0.3 < span < 3
+    for kind in ("contour", "heatmap"):
+        fig = plot.plot_map(ds, "L10r", "Fx", "My", kind=kind, at={"Fz": 1000.0})
+        fig.draw_without_rendering()
+        bar = fig.axes[1]
+        low, high = bar.get_ylim()
+        labels = [t.get_text() for t in bar.get_yticklabels() if low <= t.get_position()[1] <= high]
+        assert sum(bool(t) for t in labels) >= 3, (kind, labels)
+    ds.close()
+
+
+def test_at_beyond_an_axis_is_refused_not_snapped(files, capsys):
+    """--at Fx=1e6 on a map whose Fx runs to 2 kN once drew the edge's point silently (issue 39, item 4)."""
+    ds = fb.open_dataset(files["map"])
+    with pytest.raises(ValueError) as err:
+        plot.plot_lines(ds, "kzz", "Fz", at={"Fx": 1e6, "My": 0.0})
+    assert str(err.value) == ("at Fx=1e+06 is outside the file's Fx axis [-2000, 2000] N (5 values): give a value "
+                              "within it")
+    with pytest.raises(ValueError, match=re.escape("at My=-80000 is outside the file's My axis [-74000, 74000] N*mm")):
+        plot.plot_map(ds, "kzz", "Fx", "Fz", at={"My": -80000.0})
+    # in range, and at the edges to rounding: the nearest grid point, as before
+    fig = plot.plot_lines(ds, "kzz", "Fz", at={"Fx": 2000.0 * (1 + 1e-12), "My": -73000.0})
+    assert "Fx = 2 kN" in fig.axes[0].get_title() and "My = -74 kN·mm" in fig.axes[0].get_title()
+    ds.close()
+    # a table's own dims are indices: one beyond the last is refused too
+    with pytest.raises(ValueError, match=re.escape("at point=2 is outside the file's point axis [0, 1] (2 values)")):
+        plot.plot_passage(files["passage"], at={"point": 2})
+    out = files["dir"] / "beyond.png"
+    code, err = run_cli(capsys, "plot", "map", str(files["map"]), "--var", "kzz", "--x", "Fx", "--y", "My",
+                        "--at", "Fz=1e6", "-o", str(out))
+    assert code == 2 and "at Fz=1e+06 is outside the file's Fz axis [500, 3000] N" in err, err
+    assert len(err.strip().splitlines()) == 1 and not out.exists()

@@ -284,6 +284,20 @@ def equivalent_load(Fr, Fa, alpha_deg: float, f0: float, C0r: float, unit_rows: 
     return np.where(ratio <= e, Fr, X * Fr + Y * Fa)
 
 
+def iso_life(r, Fr, Fa):
+    """ISO 281 (P, L10) of a bearing with ratings ``r`` (BearingRatings; its unit C) under radial and axial
+    loads Fr, Fa >= 0 (N; arrays broadcast): P = X Fr + Y Fa in N, L10 = (C/P)^p in million revolutions (inf
+    without load). The one formula of ``fb.rating_life`` and the maps' L10."""
+    if r.rollers:
+        P = roller_equivalent_load(Fr, Fa, r.contact_angle, r.double_row)
+    else:
+        P = equivalent_load(Fr, Fa, r.contact_angle, r.f0, r.C0, r.double_row)
+    P = np.asarray(P, float)
+    with np.errstate(divide="ignore", over="ignore"):  # a vanishing load: an infinite life
+        L10 = np.where(P > 0, (r.C / np.maximum(P, 1e-300)) ** r.life_exponent, np.inf)
+    return P, L10
+
+
 def static_equivalent_load(Fr, Fa, alpha_deg: float, unit_rows: bool, rollers: bool = False):
     """ISO 76 P_0 = max(X_0 Fr + Y_0 Fa, Fr) (N); deep groove X_0 = 0.6, Y_0 = 0.5; angular contact
     X_0 = 0.5 and Y_0 by angle; a double row X_0 = 1 and twice Y_0; roller rows
@@ -606,12 +620,8 @@ def life(bearing, load, q, settings: LifeSettings | None = None) -> LifeResult:
     notes = []
     P = P0 = L10 = S0 = None
     if r.C is not None:
-        if r.rollers:
-            P = float(roller_equivalent_load(Fr, Fa, r.contact_angle, r.double_row))
-        else:
-            P = float(equivalent_load(Fr, Fa, r.contact_angle, r.f0, r.C0, r.double_row))
+        P, L10 = (float(v) for v in iso_life(r, Fr, Fa))
         P0 = float(static_equivalent_load(Fr, Fa, r.contact_angle, r.double_row, r.rollers))
-        L10 = (r.C / P) ** r.life_exponent if P > 0 else math.inf
         S0 = r.C0 / P0 if P0 > 0 else math.inf
         if load[3] or load[4]:
             notes.append("ISO 281's P has no moment: L10 ignores Mx, My; L10r includes them")

@@ -154,6 +154,7 @@ class BearingState:
     q: np.ndarray
     reaction: np.ndarray
     K: np.ndarray
+    name: str = ""
 
 
 @dataclass(frozen=True)
@@ -178,8 +179,8 @@ class ShaftResult:
         out = {"reference": self.reference, "speed": self.speed, "q": self.q.tolist(),
                "K_system": self.K_system.tolist(),
                 "status": self.solution.status_name, "converged": self.solution.converged,
-               "bearings": [{"position": b.position, "reaction": b.reaction.tolist(), "q": b.q.tolist(),
-                             "K": b.K.tolist()} for b in self.bearings]}
+               "bearings": [{"name": b.name, "position": b.position, "reaction": b.reaction.tolist(),
+                             "q": b.q.tolist(), "K": b.K.tolist()} for b in self.bearings]}
         if self.solution.fixed:
             out["fixed"] = list(self.solution.fixed)
             out["holder_reaction"] = self.holder_reaction.tolist()
@@ -210,7 +211,7 @@ def solve_shaft(shaft: Shaft, method: str = "newton", speed: float | None = None
         q_local = transfer(mb.position - shaft.reference) @ result.q
         # direct, not stiffness: a solve that did not converge still returns its last iterate, with its status
         f, K, _ = direct(mb.bearing, q_local, speed=speed)
-        states.append(BearingState(mb.position, q_local, f, K))
+        states.append(BearingState(mb.position, q_local, f, K, mb.name))
     holder = np.zeros(5)
     for name in held.names:  # the bearings' reaction there against the external load: the holder's share
         i = DISPLACEMENT_NAMES.index(name)

@@ -377,7 +377,8 @@ def _bend(v, back, w, r, inv_r, inv_r2, cubic):
 
 @njit(parallel=True, cache=CACHE, error_model=ERROR_MODEL, nogil=True)
 def map_sweep(inputs, given_load, segments, q, f, K, status, iterations, residual, max_load, n_loaded,
-              min_angle, max_angle, balls, speeds, ball_row, settings, stop, life, C0, L10r, L10r_row, safety):
+              min_angle, max_angle, outer_angles, balls, speeds, ball_row, settings, stop, life, C0, L10r, L10r_row,
+              safety):
     """One block of a load or displacement map, in place.
 
     ``balls`` is the bearing's ball set; with a speed table, case i runs at ``speeds[i]`` rad/s
@@ -390,22 +391,26 @@ def map_sweep(inputs, given_load, segments, q, f, K, status, iterations, residua
     another thread) ends the sweep at the next case; the block is then incomplete. With a
     ``life`` table (rows, 8; life.life_table) of more than zero rows, L10r,
     L10r_row and the static safety (with C0 in N; nan where a case did not
-    converge) are filled too (else they may be (1, ...) arrays, untouched).
+    converge) are filled too (else they may be (1, ...) arrays, untouched). ``outer_angles`` (smallest,
+    largest loaded outer contact angle per row, rad) are filled in a map at speed (else (1, rows), untouched).
     """
     n_runs = segments.shape[0] - 1
     groups = min(n_runs, MAP_GROUPS)
     n_elements = ball_row.shape[0]
     want_life = life.shape[0] > 0
     roller_life = want_life and life[0, LIFE_SLICES] > 0.0
-    spinning_life = want_life and speeds.shape[0] > 0
+    spinning = speeds.shape[0] > 0
     # a roller bearing's life needs every slice's load: the record then carries them after the elements;
-    # at speed each ring's own contacts: the outer contacts' loads follow the inner ones
-    n_record = n_elements + (slice_count(balls.slices) if roller_life else 0) + (n_elements if spinning_life else 0)
-    results = (q, f, K, status, iterations, residual, max_load, n_loaded, min_angle, max_angle)
+    # at speed each ring's own contacts: the outer contacts' loads and angles follow the inner ones
+    n_record = n_elements + (slice_count(balls.slices) if roller_life else 0) + (n_elements if spinning else 0)
+    results = (q, f, K, status, iterations, residual, max_load, n_loaded, min_angle, max_angle, outer_angles[0],
+               outer_angles[1])
     life_results = (L10r, L10r_row, safety)
     for g in prange(groups):
+        n_rows = max_load.shape[1]
         scratch = (np.empty((WORK_ROWS, 5)), np.empty((PREDICTOR_ROWS, 5)), np.empty(n_record), np.empty(n_record),
-                   np.empty((max(life.shape[0], 1), 2)), warm_scratch(balls.speed_table))
+                   np.empty((max(life.shape[0], 1), 2)), warm_scratch(balls.speed_table), np.empty(n_rows),
+                   np.empty(n_rows, n_loaded.dtype))
         map_runs(range(g, n_runs, groups), inputs, given_load, segments, results, balls, speeds, ball_row,
                  settings, stop, life, C0, life_results, scratch)
 
@@ -416,12 +421,13 @@ def map_runs(runs, inputs, given_load, segments, results, balls, speeds, ball_ro
     """The continuation runs ``runs`` (a range) of :func:`map_sweep`'s block, one after another, with one
     group's ``scratch`` (solver work, predictor, the per-ball record's two arrays, life sums, warm starts).
     Serial and without reference counting: the results' rows are views of arrays both threads write."""
-    q, f, K, status, iterations, residual, max_load, n_loaded, min_angle, max_angle = results
+    q, f, K, status, iterations, residual, max_load, n_loaded, min_angle, max_angle, min_outer, max_outer = results
     L10r, L10r_row, safety = life_results
-    work, predictor, ball_load, contact_angle, sums, spin = scratch
+    work, predictor, ball_load, contact_angle, sums, spin, outer_load, outer_count = scratch
     want_life = life.shape[0] > 0
     roller_life = want_life and life[0, LIFE_SLICES] > 0.0
-    spinning_life = want_life and speeds.shape[0] > 0
+    spinning = speeds.shape[0] > 0
+    spinning_life = want_life and spinning
     n_elements = ball_row.shape[0]
     for run in runs:
         if stop_requested(stop):
@@ -445,6 +451,9 @@ def map_runs(runs, inputs, given_load, segments, results, balls, speeds, ball_ro
                 given_load, inputs[i], warm, q[i], f[i], K[i], at_speed(balls, speeds, i, spin, not warm), settings,
                 work, ball_load, contact_angle)
             row_summary(ball_load, contact_angle, ball_row, max_load[i], n_loaded[i], min_angle[i], max_angle[i])
+            if spinning:  # the outer contacts' angles (their loads are the life's)
+                row_summary(ball_load[n_elements:], contact_angle[n_elements:], ball_row, outer_load, outer_count,
+                            min_outer[i], max_outer[i])
             if not want_life:
                 continue
             if (status[i] & OUTCOME_MASK) == CONVERGED or (status[i] & OUTCOME_MASK) == UNLOADED:

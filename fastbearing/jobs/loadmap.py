@@ -27,7 +27,7 @@ from .. import boundary
 from ..dofs import AXES, UNITS
 from .grid import Axis, CaseSet, fixed_mask, input_axes, parse_axis, read_case_file, segment_starts
 from .runner import open_dataset  # noqa: F401 (public: fb.open_dataset)
-from ..analysis.life import LifeSettings, life_table, ratings
+from ..analysis.life import LifeSettings, iso_life, life_table, ratings
 from ..engine.sweep import map_sweep
 
 DEFAULT_CHUNK = 65536
@@ -141,6 +141,7 @@ def compute_block(bearing: Bearing, given_load: bool, line_length: int, settings
     (one compiled sweep for the map; a case at 0 rpm is the quasi-static model exactly).
     """
     balls, speeds = bearing.ball_set(), np.zeros(0)
+    rpm = inputs[:, 5] if inputs.shape[1] == 6 else None
     if inputs.shape[1] == 6:  # the shaft speed (rpm) per case
         if spinning:
             balls, speeds = bearing.ball_set(speed=0.0), inputs[:, 5] * (np.pi / 30.0)
@@ -151,11 +152,35 @@ def compute_block(bearing: Bearing, given_load: bool, line_length: int, settings
         table, C0 = np.empty((0, 8)), 0.0
         L10r, L10r_row, safety = np.empty(1), np.empty((1, bearing.n_rows)), np.empty(1)
     else:
-        table, C0 = life
+        table, C0, ratings_ = life
         L10r, L10r_row, safety = res["L10r"], res["L10r_row"], res["static_safety"]
+    if "min_outer_contact_angle" in res:
+        outer = (res["min_outer_contact_angle"], res["max_outer_contact_angle"])
+    else:
+        outer = (np.empty((1, bearing.n_rows)), np.empty((1, bearing.n_rows)))
     map_sweep(inputs, given_load, segments, res["q"], res["f"], res["K"], res["status"], res["iterations"],
               res["residual"], res["max_ball_load"], res["loaded_balls"], res["min_contact_angle"],
-              res["max_contact_angle"], balls, speeds, ball_row, settings, stop, table, C0, L10r, L10r_row, safety)
+              res["max_contact_angle"], outer, balls, speeds, ball_row, settings, stop, table, C0, L10r, L10r_row,
+              safety)
+    if life is not None:
+        _iso_lives(res, ratings_, rpm)
+
+
+def _iso_lives(res: dict, r, rpm) -> None:
+    """ISO 281's L10 of each case from the load the ring carries (f: the given load, or with fixed degrees of
+    freedom the reactions there; nan where L10r is: no solution), and both lives in hours at each case's
+    shaft speed ``rpm`` (None: the map has no speed column)."""
+    solved = np.isfinite(res["L10r"])
+    if "L10" in res:
+        f = res["f"]
+        _, L10 = iso_life(r, np.hypot(f[:, 0], f[:, 1]), np.abs(f[:, 2]))
+        res["L10"][...] = np.where(solved, L10, np.nan)
+    if "L10r_hours" in res:
+        with np.errstate(divide="ignore"):
+            per_hour = np.where(rpm > 0, 60.0 * rpm, 0.0) / 1e6  # million revolutions per hour
+            res["L10r_hours"][...] = np.where(per_hour > 0, res["L10r"] / np.maximum(per_hour, 1e-300), np.inf)
+            if "L10_hours" in res:
+                res["L10_hours"][...] = np.where(per_hour > 0, res["L10"] / np.maximum(per_hour, 1e-300), np.inf)
 
 
 def job(cfg: LoadMapConfig) -> jobs.Job:
@@ -169,10 +194,12 @@ def job(cfg: LoadMapConfig) -> jobs.Job:
         attrs["fixed_dofs"] = ", ".join(boundary.names(cfg.fixed))
         attrs["fixed_note"] = ("the degrees of freedom in fixed_dofs are given as displacements (their grid axes, "
                                "mm or rad); f holds the reactions there (N, N*mm)")
+    if cfg.cases.max_speed > 0 and not cfg.bearing.roller_rows:
+        variables += storage.outer_angle_variables()
     if cfg.life is not None:
         r = ratings(cfg.bearing)
-        life = (life_table(r, cfg.life), r.C0 if r.C0 is not None else float("nan"))
-        variables += storage.life_variables()
+        life = (life_table(r, cfg.life), r.C0 if r.C0 is not None else float("nan"), r)
+        variables += storage.life_variables(iso=r.C is not None, hours=cfg.cases.has_speed)
         attrs |= {"life_rotating_ring": cfg.life.rotating, "dynamic_load_rating_N": r.C or float("nan"),
                  "static_load_rating_N": r.C0 or float("nan"),
                  "row_dynamic_load_rating_N": r.C_row, "contact_rating_inner_N": r.Q_ci,

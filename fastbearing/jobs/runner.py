@@ -39,6 +39,7 @@ from .. import validate
 from ..api import check_threads, num_threads
 from ..model.bearing import Bearing
 from ..dofs import AXES, DOF_LABELS, LONG_NAMES, UNITS, UNITS_CONVENTION
+from .._cache import CompileWatch
 from ..files import DiskFull
 from .grid import CaseSet, plan_blocks
 from ..engine.solver import SolverSettings
@@ -207,28 +208,6 @@ def _progress(total: int, initial: int, show, unit: str):
     return _Progress(total, initial, unit) if show else None
 
 
-#: About how long numba takes to compile a sweep and the solver under it on an empty cache (2 cores,
-#: measured 2026-11-24: 31 s for the quasi-static map, 67 s for a map over speed; see bench/README.md).
-COMPILE_SECONDS = 30
-
-
-def needs_compiling(kernel: str) -> bool:
-    """True when ``kernel`` ("package.module.function" below fastbearing) is neither compiled in this process nor in
-    numba's on-disk cache, so its first call compiles it (tens of seconds)."""
-    if not kernel:
-        return False
-    import importlib
-
-    from .._cache import cache_folder
-
-    module, name = kernel.rsplit(".", 1)
-    dispatcher = getattr(importlib.import_module(f"fastbearing.{module}"), name, None)
-    if dispatcher is None or getattr(dispatcher, "signatures", None):
-        return False
-    # numba names a cache file by the module's file name and the function's
-    return not any(cache_folder().glob(f"{module.rpartition('.')[2]}.{name}-*.nbi"))
-
-
 def check_in_flight(max_in_flight, name: str = "max_in_flight") -> int | None:
     """None (the default: 2 per worker thread) or an integer in [1, MAX_IN_FLIGHT]."""
     if max_in_flight is None:
@@ -285,11 +264,9 @@ def _compute(job: Job, part: Path, out: Path, blocks, threads, progress, client,
     pending = [b for b in blocks if not done[b.index]]
     bar = _progress(job.cases.n_cases, sum(b.size for b in blocks if done[b.index]), progress, job.case_word)
     on_written = bar
-    if client is None and pending and needs_compiling(job.kernel):
-        print(f"fastbearing: compiling kernels (one time, about {COMPILE_SECONDS} s; later runs load them from "
-              "the cache)", file=sys.stderr)
+    watch = CompileWatch()  # says so when numba starts compiling (any signature), and times it
     try:
-        with _Interrupt() as interrupt:
+        with _Interrupt() as interrupt, watch:
             if client is None:
                 size = max(b.size for b in blocks)
                 # two buffer sets: one being computed, one being written
@@ -327,7 +304,7 @@ def _compute(job: Job, part: Path, out: Path, blocks, threads, progress, client,
             out.with_name(out.name + ".packing").unlink(missing_ok=True)
             raise _full(part, job, "while finishing") from None
         raise
-    print(_summary(job, counts, wall, computed, time.perf_counter() - finishing), file=sys.stderr)
+    print(_summary(job, counts, wall, computed, time.perf_counter() - finishing, watch.seconds), file=sys.stderr)
 
 
 def _close_quietly(pf: storage.PartFile) -> None:
@@ -399,18 +376,28 @@ def _status_counts(pf: storage.PartFile) -> dict[int, int]:
     return pf.value_counts("status")
 
 
-def _summary(job: Job, counts: dict[int, int], wall: float, computed: int, finish: float = 0.0) -> str:
-    """One line: how many, what share converged and by status, how long (computing, then compressing)."""
+def _summary(job: Job, counts: dict[int, int], wall: float, computed: int, finish: float = 0.0,
+             compiling: float = 0.0) -> str:
+    """One line: how many (and how many of them this run computed, when it resumed), what share converged and
+    by status, how long (compiling apart, computing, then compressing), and the rate over this run's cases
+    and computing time alone."""
     total = sum(counts.values())
     ok = sum(k for code, k in counts.items() if st.is_converged(code))
     by_status = ", ".join(f"{st.describe(code)} {k}" for code, k in sorted(counts.items(), key=lambda x: -x[1]))
     what = f"{job.cases.n_cases} {job.case_word}s"
     if job.solves_per_case > 1:
         what += f" x {job.solves_per_case} positions"
-    rate = computed * job.solves_per_case / wall if wall > 0 else float("inf")
+    if computed < job.cases.n_cases:
+        what += f" ({computed} computed in this run, the rest resumed)"
+    compiling = min(compiling, wall) if compiling > 0.5 else 0.0  # below that: loading from the cache
+    work = wall - compiling
+    rate = computed * job.solves_per_case / work if work > 0 else float("inf")
     took = f"{wall:.2f} s wall"
+    if compiling:
+        took = f"{compiling:.1f} s compiling + {work:.2f} s computing"
     if job.compression != "none":
-        took = f"{wall:.2f} s computing + {finish:.2f} s {job.compression} repack = {wall + finish:.2f} s wall"
+        took = f"{took if compiling else f'{wall:.2f} s computing'} + {finish:.2f} s {job.compression} repack = " \
+               f"{wall + finish:.2f} s wall"
     return (f"fastbearing: {what}, {100.0 * ok / max(total, 1):.2f} % converged ({by_status}); "
             f"{took}, {rate:,.0f} solves/s")
 

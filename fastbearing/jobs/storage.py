@@ -93,14 +93,34 @@ def result_variables(given: str, inner: tuple[str, ...] = ()) -> list[Variable]:
     ]
 
 
-def life_variables() -> list[Variable]:
-    """The rating-life variables of a map with ``life = true`` (fastbearing.analysis.life)."""
+def life_variables(iso: bool = True, hours: bool = False) -> list[Variable]:
+    """The rating-life variables of a map with ``life = true`` (fastbearing.analysis.life): L10r, per row,
+    S0; with ``iso`` (the bearing is rated as a unit) ISO 281's L10; with ``hours`` (the map has a shaft
+    speed) both lives in hours too."""
     V = _inner_variable(())
-    return [
+    out = [
         V("L10r", (), "f8", "million revolutions",
           "modified reference rating life L10r of the bearing (ISO/TS 16281; nan where the case did not converge)"),
         V("L10r_row", ("row",), "f8", "million revolutions", "modified reference rating life L10r of each row"),
         V("static_safety", (), "f8", "1", "static safety factor S0 = C0/P0 (ISO 76) of the bearing as a unit"),
+    ]
+    if iso:
+        out.append(V("L10", (), "f8", "million revolutions", "basic rating life L10 = (C/P)^p (ISO 281; P from "
+                     "the radial and axial load the ring carries; nan where the case did not converge)"))
+    if hours:
+        out.append(V("L10r_hours", (), "f8", "h", "L10r in hours at the case's shaft speed (inf at 0 rpm)"))
+        if iso:
+            out.append(V("L10_hours", (), "f8", "h", "L10 in hours at the case's shaft speed (inf at 0 rpm)"))
+    return out
+
+
+def outer_angle_variables() -> list[Variable]:
+    """At speed the inner and outer contact angles differ: the outer contacts' extremes per row."""
+    V = _inner_variable(())
+    return [
+        V("min_outer_contact_angle", ("row",), "f8", "rad", "smallest loaded outer-race contact angle per row "
+          "(on the row's contact direction; at speed the outer angle falls below the inner one)"),
+        V("max_outer_contact_angle", ("row",), "f8", "rad", "largest loaded outer-race contact angle per row"),
     ]
 
 
@@ -165,10 +185,12 @@ def prepare_output(out: Path, fingerprint: str, resume: bool, overwrite: bool) -
                 with h5py.File(part, "r") as fh:
                     same = fh.attrs.get("config_fingerprint") == fingerprint
             except OSError:
-                raise ValueError(f"{part} is not a readable partial run; start again with overwrite") from None
+                raise ValueError(f"{part} is not a readable partial run; start again with --overwrite (Python: "
+                                 "overwrite=True)") from None
             if not same:
                 raise ValueError(f"{part} was started from a different config (or case file); "
-                                 "resume needs the same config, or start again with overwrite")
+                                 "resume needs the same config, or start again with --overwrite (Python: "
+                                 "overwrite=True)")
             return out, part, True
         if not overwrite:
             raise ValueError(f"an unfinished run exists at {part}: resume it (--resume) or start again "

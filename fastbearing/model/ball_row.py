@@ -6,6 +6,8 @@ Units: N, mm, rad, except the two angles a user types (``contact_angle``, ``firs
 from __future__ import annotations
 
 import math
+import sys
+import warnings
 from dataclasses import dataclass
 
 from .. import validate
@@ -19,6 +21,45 @@ PRELOAD_DEFLECTION_LIMIT = 0.1
 #: balls in grooves of the usual ratios (0.52, 0.53) reach a Hertz pressure of about 4200 N/mm^2
 #: (6305: 0.145 A0; the SKF 32xx/33xx files: 0.16-0.17 A0).
 VALIDITY_DEFLECTION = 0.15
+#: Smallest plausible non-zero contact angle of an angular-contact ball row, degrees: below it (and not 0, a
+#: deep-groove row) the angle was probably typed in radians (15 deg = 0.2618 rad).
+SMALLEST_CONTACT_ANGLE = 1.0
+#: How many distinct unit-slip warnings are remembered (each fires once: see :func:`unit_warning`).
+_WARNED_LIMIT = 1000
+_warned: dict[str, None] = {}
+
+
+def unit_warning(message: str) -> None:
+    """A ``UserWarning`` that a value looks typed in another unit than its field's (mm, degrees): plausible
+    enough to compute with, so a warning, not an error.
+
+    It fires once per distinct message (the field, its value and what was probably meant), however often the
+    value is copied: a double row makes two rows of one table, a bearing file builds its rows more than once,
+    ``Bearing.with_rows`` and a four-point row's contact pairs rebuild them. It points at the first caller
+    outside fastbearing (the user's line)."""
+    if message in _warned:
+        return
+    if len(_warned) >= _WARNED_LIMIT:
+        _warned.pop(next(iter(_warned)))
+    _warned[message] = None
+    level, frame = 2, sys._getframe(1)
+    while frame is not None and frame.f_globals.get("__name__", "").partition(".")[0] == "fastbearing":
+        frame, level = frame.f_back, level + 1
+    warnings.warn(message, UserWarning, stacklevel=level if frame is not None else 2)
+
+
+def forget_unit_warnings() -> None:
+    """Let every unit-slip warning fire again (tests; a long session that wants to see them anew)."""
+    _warned.clear()
+
+
+def check_contact_angle_unit(contact_angle: float) -> None:
+    """Warn when a ball row's contact angle (degrees) is above 0 but below SMALLEST_CONTACT_ANGLE: probably
+    radians."""
+    if 0.0 < contact_angle < SMALLEST_CONTACT_ANGLE:
+        unit_warning(f"contact_angle = {contact_angle:g} degrees is implausibly small for an angular-contact ball "
+                     f"row (below {SMALLEST_CONTACT_ANGLE:g} degree): probably radians, i.e. "
+                     f"{math.degrees(contact_angle):.4g} degrees; give it in degrees (0 for a deep-groove row)")
 
 
 def free_contact_angle(groove_center_distance: float, contact_angle: float, radial_clearance: float) -> float:
@@ -50,7 +91,8 @@ class Row:
         A0, unloaded distance between inner and outer groove-curvature
         centres in mm, > 0.
     contact_angle : float
-        a0, unloaded contact angle in degrees, in [0, 90).
+        a0, unloaded contact angle in degrees, in [0, 90). A value above 0 but below 1 degree
+        (SMALLEST_CONTACT_ANGLE) gives a UserWarning: probably radians.
     axial_offset : float
         z_r, signed axial position of the row centre from the bearing centre
         in mm (the paper's c1*e).
@@ -114,6 +156,7 @@ class Row:
             set_(self, "deflection_limit", v.number(self.deflection_limit, "deflection_limit", low=0, low_open=True,
                                                     units="mm"))
         self._check_clearance_and_preload()
+        check_contact_angle_unit(self.contact_angle)  # an accepted row only: no warning beside an error
 
     # -- what every element kind's row tells (rollers.RollerRow answers the same) --------------------------
     #: The element kind (a roller row's ``element`` key says its own).

@@ -125,6 +125,8 @@ def load_bearing(path) -> Bearing:
 
 def read_job_config(config, job: str):
     """A ``[bearing]`` + ``[JOB]`` config (TOML path or parsed dict), checked the same way for every job.
+    ``bearing`` may instead name a bearing file (``bearing = "data/bearings/7014C-DB.toml"``), relative to
+    the config's folder (to the current folder for a dict); its text joins the config's in the provenance.
 
     Returns (bearing, the job's table, the config text, the source path or None).
     """
@@ -144,4 +146,12 @@ def read_job_config(config, job: str):
             raise ValueError(f"missing the [{table}] table")
     if not isinstance(doc[job], dict):
         raise ValueError(f"{job} must be a table")
+    if isinstance(doc["bearing"], str):  # bearing = "FILE.toml": a bearing file, relative to the config
+        path = Path(doc["bearing"])
+        if source is not None and not path.is_absolute():
+            path = source.parent / path
+        if not path.is_file():
+            raise ValueError(f"bearing = {doc['bearing']!r}: no bearing file at {path}"
+                             + (" (a path is taken relative to the config's folder)" if source is not None else ""))
+        return load_bearing(path), doc[job], text + "\n# bearing file " + str(path) + "\n" + path.read_text(), source
     return bearing_from_table(doc["bearing"]), doc[job], text, source

@@ -53,6 +53,7 @@ import numpy as np
 from ..engine import schema
 
 from .. import validate
+from .ball_row import check_contact_angle_unit, unit_warning
 from .bearing import PRELOAD_DEFLECTION_LIMIT, Bearing, _check_finite, free_contact_angle
 
 ELLIPTICITY_METHODS = ("exact", "hamrock-brewe")
@@ -62,6 +63,31 @@ ROTATING_RINGS = ("inner", "outer")
 #: Default validity limit of the Hertz contact pressure, N/mm^2: the usual static limit of ball bearings
 #: (ISO 76 bases C0 on 4200 N/mm^2 at the most loaded contact of radial ball bearings).
 CONTACT_PRESSURE_LIMIT = 4200.0
+#: Plausible ball diameters, mm: outside them a ball diameter was probably typed in another unit (metres,
+#: inches, micrometres) and gets a UserWarning (the smallest catalogue balls are about 0.6 mm, the largest
+#: slewing-ring balls about 200 mm).
+BALL_DIAMETER_RANGE = (0.5, 300.0)
+#: Units a length may have been typed in, with their size in mm.
+_LENGTH_UNITS = (("metres", "m", 1000.0), ("inches", "in", 25.4), ("micrometres", "um", 1e-3))
+
+
+def _probable_units(value: float, low: float, high: float) -> list[str]:
+    """'metres (0.012 m = 12 mm)' ... for every unit that would put ``value`` in [low, high] mm."""
+    return [f"{name} ({value:g} {short} = {value * mm:.4g} mm)" for name, short, mm in _LENGTH_UNITS
+            if low <= value * mm <= high]
+
+
+def check_ball_diameter_unit(ball_diameter: float) -> None:
+    """Warn when a ball diameter (mm) lies outside BALL_DIAMETER_RANGE: probably metres, inches or
+    micrometres."""
+    low, high = BALL_DIAMETER_RANGE
+    D = ball_diameter
+    if low <= D <= high:
+        return
+    guesses = _probable_units(D, low, high)
+    meant = f"probably {' or '.join(guesses)}; give it in mm" if guesses else "check its unit: it is in mm"
+    unit_warning(f"ball_diameter = {D:g} mm is implausible for a bearing ball ({'below' if D < low else 'above'} "
+                 f"{low if D < low else high:g} mm): {meant}")
 
 #: Contact-direction coefficient c2 of the load-centre spread E = 2(e + c2 R tan a0)
 #: (docs/model.md, "A bearing is a set of rows on one rigid inner ring")
@@ -326,16 +352,19 @@ class Geometry:
     n_balls : int
         Z, balls per row, >= 1 and few enough not to overlap on the pitch circle.
     ball_diameter : float
-        D, mm, > 0.
+        D, mm, > 0. Outside 0.5-300 mm (BALL_DIAMETER_RANGE) a UserWarning says which unit it looks like
+        (metres, inches, micrometres).
     pitch_diameter : float
-        dm, diameter of the ball-centre circle, mm, > D.
+        dm, diameter of the ball-centre circle, mm, > D (an error otherwise, which says when dm looks like
+        metres or inches).
     inner_groove_ratio, outer_groove_ratio : float
         fi, fo: groove radius over D, in (0.5, 1); typically 0.515-0.53.
     contact_angle : float
         a0, unloaded contact angle in **degrees**, in [0, 90): the angle of
         the line through the groove-curvature centres with the play taken up
         (0 for a deep-groove bearing, the catalogue angle for an angular
-        contact one). Independent of the clearance.
+        contact one). Independent of the clearance. Above 0 but below 1 degree: a UserWarning
+        (probably radians).
     diametral_clearance : float
         Pd, radial play in mm, < 2 A0 cos(a0); radial_clearance rL = Pd/2 per
         ball. Negative: an interference (radial preload) that deflects each
@@ -415,7 +444,13 @@ class Geometry:
         set_(self, "ball_diameter", D)
         if not (validate._is_number(self.pitch_diameter) and math.isfinite(self.pitch_diameter)
                 and self.pitch_diameter > D):
-            raise v.FieldError("pitch_diameter", f"must be > ball_diameter ({D!r} mm)", self.pitch_diameter)
+            hint = ""
+            if validate._is_number(self.pitch_diameter) and 0 < self.pitch_diameter < 0.5 * D:
+                # far below D: a unit slip (dm / D of real bearings is about 2.5 to 10, a slewing ring's a few dozen)
+                guesses = [g for g in _probable_units(float(self.pitch_diameter), 2.0 * D, 60.0 * D)
+                           if not g.startswith("micro")]
+                hint = f": it looks like {' or '.join(guesses)}" if guesses else ""
+            raise v.FieldError("pitch_diameter", f"must be > ball_diameter ({D!r} mm){hint}", self.pitch_diameter)
         dm = float(self.pitch_diameter)
         set_(self, "pitch_diameter", dm)
         z_max = int(math.pi / math.asin(D / dm) + 1e-9)
@@ -451,6 +486,9 @@ class Geometry:
         for name in ("dynamic_load_rating", "static_load_rating"):
             if getattr(self, name) is not None:
                 set_(self, name, v.number(getattr(self, name), name, low=0, low_open=True, units="N"))
+        # an accepted geometry only: no warning beside an error (its rows' check says the same, once)
+        check_ball_diameter_unit(self.ball_diameter)
+        check_contact_angle_unit(self.contact_angle)
 
     # -- derived model parameters ------------------------------------------------------
     # (docs/model.md, "Hertz constant from geometry (for bearings given by catalogue dimensions)")

@@ -1,14 +1,24 @@
 """Hand Kb to downstream tools: CSV, JSON, NumPy .npz, Nastran DMIG, ROSS bearing arguments.
 
 Every format states its DOF order (x, y, z, tx, ty: translations along and
-tilts about x and y; z is the shaft axis) and units. fastbearing's units are
-N, mm, rad: Kb in N/mm (translations), N*mm/rad (tilts), N/rad (coupling).
+tilts about x and y; z is the shaft axis), its units and which matrix it
+holds (a bearing's Kb, one bearing of a shaft, or a shaft's K_system).
+fastbearing's units are N, mm, rad: Kb in N/mm (translations), N*mm/rad
+(tilts), N/rad (coupling).
+
+CSV files have one header row, read as it is by ``pandas.read_csv(path)``
+and ``numpy.genfromtxt(path, delimiter=",", names=True, dtype=None)``: each
+column name ends in its units (``Fx_N``, ``My_N_mm``, ``dx_mm``,
+``kxx_N_per_mm``, ``kxtx_N_per_rad``, ``ktxty_N_mm_per_rad``; ``*`` is
+written ``_`` and ``/`` ``_per_``); the numeric columns come first, the text
+columns ``status_name`` and ``matrix`` last.
 """
 
 from __future__ import annotations
 
 import csv
 import json
+import re
 import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -24,6 +34,26 @@ UNITS = "N/mm among x, y, z; N*mm/rad among tx, ty; N/rad between translations a
 FORMATS = ("csv", "json", "npz", "dmig", "ross")
 #: Nastran component numbers of the DOF order above (1-3 translations, 4-5 rotations).
 NASTRAN_COMPONENTS = (1, 2, 3, 4, 5)
+#: What a bearing's own Kb is called in every output's header/metadata (a shaft's matrices say more).
+KB = "bearing stiffness Kb"
+#: Where a bearing's Kb acts (DMIG placement note).
+KB_CENTRE = "the bearing centre"
+#: The keys of a ROSS export that are fastbearing's notes, not BearingElement arguments.
+ROSS_NOTES = ("units", "matrix", "dropped")
+
+
+def units_suffix(units: str) -> str:
+    """A unit as a column-name suffix that pandas and numpy.genfromtxt(names=True) keep as it is:
+    "N*mm/rad" -> "_N_mm_per_rad", "N" -> "_N"; "1" or "" (a count or an index) -> ""."""
+    units = str(units).strip()
+    if units in ("", "1"):
+        return ""
+    text = re.sub(r"[^A-Za-z0-9]+", "_", units.replace("/", "_per_").replace("^", ""))
+    return "_" + re.sub("_+", "_", text).strip("_")
+
+
+#: The 25 CSV column names of Kb's entries in row-major DOF order, e.g. "kxx_N_per_mm", "kxtx_N_per_rad".
+K_COLUMNS = tuple(f"k{a}{b}{units_suffix(k_entry_units(i, j))}" for i, a in enumerate(DOF) for j, b in enumerate(DOF))
 
 
 @dataclass(frozen=True)
@@ -31,13 +61,19 @@ class Source:
     """Kb read from a solve/shaft JSON or a finished map or table: ``K`` (5, 5) or (N, 5, 5), each case's
     ``status`` name, ``coords`` (what each case is: name -> (values (N,), units), the five inputs Fx ... My
     or dx ... by first, then e.g. position, cage_angle), and ``extra`` fields (q, f of a solve) to carry into
-    JSON exports. ``picked`` describes the case chosen by ``--at`` (empty otherwise)."""
+    JSON exports. ``picked`` describes the case chosen by ``--at`` (empty otherwise). ``codes``: each case's
+    integer status code (fastbearing.status) where the source stores them (a .h5 file), else None.
+    ``matrix`` says which matrix K is (e.g. "bearing stiffness Kb", a shaft bearing's Kb, a shaft's
+    K_system) and ``centre`` where it acts (the point a DMIG grid must sit at)."""
 
     K: np.ndarray
     status: list[str]
     extra: dict
     coords: dict = field(default_factory=dict)
     picked: str = ""
+    codes: np.ndarray | None = None
+    matrix: str = KB
+    centre: str = KB_CENTRE
 
     @property
     def unconverged(self) -> list[int]:
@@ -69,20 +105,29 @@ def parse_at(text: str) -> dict[str, float]:
     return out
 
 
-def read_source(path, case: int | None = None, at: dict | None = None) -> Source:
+def read_source(path, case: int | None = None, at: dict | None = None, bearing: str | int | None = None,
+                system: bool = False) -> Source:
     """Kb from ``fastbearing solve --json`` / ``shaft --json`` output (.json) or a finished .h5 file.
 
     ``case`` picks one case (flat index) of a .h5 map or table, ``at`` the grid point nearest to
     given coordinates (e.g. {"Fx": 1000.0, "Fz": 3000.0, "My": 0.0}: every varying axis, values in the
-    axis' units; a case table's or passage table's own dims by index, e.g. {"point": 3, "position": 0});
-    both are refused for a .json source, which holds one matrix. An unfinished file (a ``.part``, however
-    named) is refused.
+    axis' units (N, N*mm; mm, rad); a case table's or passage table's own dims by index, e.g.
+    {"point": 3, "position": 0}; a value beyond an axis' first or last grid value is refused); both are
+    refused for a .json source, which holds one matrix. An unfinished file (a ``.part``, however named) is
+    refused.
+
+    A ``shaft --json`` output holds several matrices: ``bearing`` picks one bearing's own Kb (about its
+    centre; the bearing's ``name`` where the JSON carries names, or its index in the JSON's ``bearings``
+    list), ``system`` the shaft's K_system at the reference point; one of the two is required there, and
+    both are refused for any other source.
     """
     path = Path(path)
     if not path.is_file():
         raise ValueError(f"file not found: {path}" if not path.exists() else f"{path} is not a file")
     if case is not None and at is not None:
         raise ValueError("give --case or --at, not both")
+    if bearing is not None and system:
+        raise ValueError("give --bearing or --system, not both")
     suffix = path.suffix.lower()
     if suffix == ".json":
         if case is not None or at is not None:
@@ -94,13 +139,20 @@ def read_source(path, case: int | None = None, at: dict | None = None) -> Source
             raise ValueError(f"{path} is not JSON from `fastbearing solve --json` or `shaft --json`") from None
         if not isinstance(body, dict) or not ({"K", "K_system"} & set(body)):
             raise ValueError(f"{path} has no K or K_system: use the output of `solve --json` or `shaft --json`")
-        key = "K" if "K" in body else "K_system"
-        K = _matrix_field(body[key], f"{path.name}: {key}")
         status = body.get("status", "converged")
         status = status if isinstance(status, str) else "unknown"
+        if "K_system" in body and "K" not in body:
+            return _shaft_source(path, body, status, bearing, system)
+        if bearing is not None or system:
+            raise ValueError(f"--{'bearing' if bearing is not None else 'system'} picks a matrix of a "
+                             f"`shaft --json` output; {path.name} is a single bearing's (solve --json)")
+        K = _matrix_field(body["K"], f"{path.name}: K")
         return Source(K, [status], {k: body[k] for k in ("q", "f", "status") if k in body})
     if suffix not in (".h5", ".hdf5"):
         raise ValueError(f"SOURCE must be a .json or .h5 file, got {path.name!r}")
+    if bearing is not None or system:
+        raise ValueError(f"--{'bearing' if bearing is not None else 'system'} picks a matrix of a "
+                         f"`shaft --json` output; {path.name} is a map or table of one bearing")
     from ..jobs.storage import COMPLETE, ResultFile
 
     with ResultFile(path) as rf:
@@ -126,7 +178,55 @@ def read_source(path, case: int | None = None, at: dict | None = None) -> Source
             K = rf.read("K").reshape(-1, 5, 5)
     from .. import status as st
 
-    return Source(np.asarray(K, dtype=float), [st.describe(int(c)) for c in codes], {}, coords, picked)
+    codes = np.asarray(codes).astype(np.int64)
+    return Source(np.asarray(K, dtype=float), [st.describe(int(c)) for c in codes], {}, coords, picked,
+                  codes=codes)
+
+
+def _shaft_source(path: Path, body: dict, status: str, bearing, system: bool) -> Source:
+    """One matrix of a ``shaft --json`` output: bearing ``bearing``'s own Kb or (``system``) K_system."""
+    reference = body.get("reference")
+    where = f" z = {reference:g} mm" if isinstance(reference, (int, float)) else ""
+    bearings = body.get("bearings") if isinstance(body.get("bearings"), list) else []
+    if not all(isinstance(b, dict) and "K" in b for b in bearings):
+        raise ValueError(f"{path.name}: bearings must be a list of objects with K (`shaft --json` output)")
+    names = [str(b.get("name") or "") for b in bearings]
+
+    def label(i):
+        pos = bearings[i].get("position")
+        return (f"bearing {i}" + (f" {names[i]!r}" if names[i] else "")
+                + (f" at z = {pos:g} mm" if isinstance(pos, (int, float)) else ""))
+
+    listing = "; ".join(label(i) for i in range(len(bearings))) or "none listed"
+    if bearing is None and not system:
+        raise ValueError(f"{path.name} is a shaft's output: pick its matrix with --bearing NAME|N (its bearings: "
+                         f"{listing}) or --system (K_system at the reference{where})")
+    if system:
+        K = _matrix_field(body["K_system"], f"{path.name}: K_system")
+        extra = {k: body[k] for k in ("q", "status", "reference") if k in body}
+        point = f"the shaft's reference point (z = {reference:g} mm)" if where else "the shaft's reference point"
+        return Source(K, [status], extra, matrix=f"shaft system stiffness K_system at the reference{where}",
+                      centre=point)
+    text = str(bearing).strip()
+    if text in names and text:
+        i = names.index(text)
+    elif re.fullmatch(r"[0-9]+", text) and int(text) < len(bearings):
+        i = int(text)
+    else:
+        hint = "" if any(names) else " (this JSON carries no bearing names: give the index)"
+        raise ValueError(f"--bearing {text!r} is no bearing of {path.name}: give a name or an index 0 to "
+                         f"{len(bearings) - 1} (its bearings: {listing}){hint}")
+    b = bearings[i]
+    K = _matrix_field(b["K"], f"{path.name}: bearings[{i}].K")
+    if K.ndim != 2:
+        raise ValueError(f"{path.name}: bearings[{i}].K must be a 5 x 5 matrix of numbers")
+    extra = {k: b[k] for k in ("name", "position", "q", "reaction") if k in b}
+    if "status" in body:
+        extra["status"] = body["status"]
+    pos = b.get("position")
+    at_pos = f" (z = {pos:g} mm on the shaft)" if isinstance(pos, (int, float)) else ""
+    return Source(K, [status], extra, matrix=f"{KB} of shaft {label(i)} about its own centre",
+                  centre=f"the centre of shaft bearing {i}{at_pos}")
 
 
 def _case_coordinates(rf) -> dict:
@@ -163,7 +263,9 @@ def _case_coordinates(rf) -> dict:
 
 def _nearest_case(rf, at: dict) -> tuple[int, str]:
     """The flat index of the case nearest to ``at`` along every leading dim of K (``rf``: a
-    storage.ResultFile), and a line saying which."""
+    storage.ResultFile), and a line saying which. A value beyond an axis' first or last grid value (by more
+    than 1e-9 of the grid spacing) is refused, naming the axis and its range: nearest is for points between
+    grid values, not for extrapolation."""
     lead_dims = rf.dims("K")[:-2]
     shape = rf.shape("K")[:-2]
     unknown = sorted(set(at) - set(lead_dims))
@@ -174,7 +276,16 @@ def _nearest_case(rf, at: dict) -> tuple[int, str]:
     index, said = [], []
     for axis, dim in enumerate(lead_dims):
         values = rf.read(dim) if rf.has(dim) else np.arange(shape[axis])
-        values = np.asarray(values, float)
+        values = np.asarray(values, float).reshape(-1)
+        low, high = float(values.min()), float(values.max())
+        spacing = (high - low) / (len(values) - 1) if len(values) > 1 else 0.0
+        tol = 1e-9 * (spacing or max(abs(low), abs(high), 1.0))
+        if not low - tol <= at[dim] <= high + tol:
+            units = str(rf.attrs(dim).get("units", "1")) if rf.has(dim) else "1"
+            units = "" if units in ("", "1") else f" {units}"
+            span = f"[{low:g}, {high:g}]" if len(values) > 1 else f"{low:g} only"
+            raise ValueError(f"--at {dim}={at[dim]:g} is outside the grid's {dim} axis {span}{units} "
+                             f"({len(values)} values): give a value within it")
         k = int(np.argmin(np.abs(values - at[dim])))
         index.append(k)
         exact = values[k] == at[dim]
@@ -216,55 +327,106 @@ def _coordinate_columns(coords: dict | None, n: int) -> list[tuple[str, np.ndarr
     return out
 
 
-def write_csv(path, K, overwrite=False, coords: dict | None = None) -> Path:
-    """One row per matrix: the case index, what the case is (``coords``: name -> (values, units), e.g.
-    Fx ... My), then the 25 entries K_ij in row-major DOF order; every header names its units."""
+def _status_columns(status, n: int) -> tuple[np.ndarray, list[str]] | None:
+    """(codes, names) of ``status`` (integer fastbearing.status codes, one per matrix) or None."""
+    if status is None:
+        return None
+    from .. import status as st
+
+    codes = np.asarray(status).reshape(-1)
+    if len(codes) != n or codes.dtype.kind not in "iu":
+        raise ValueError(f"status must be {n} integer status codes (fastbearing.status), one per matrix")
+    return codes.astype(np.int64), [st.describe(int(c)) for c in codes]
+
+
+def _plain_text(text: str) -> str:
+    """``text`` without what would split or end a CSV field for numpy.genfromtxt (commas, quotes, '#')."""
+    return str(text).replace(",", ";").replace('"', "'").replace("#", "no.").replace("\n", " ")
+
+
+def csv_header(coords: dict | None = None, status: bool = False) -> list[str]:
+    """The CSV column names :func:`write_csv` writes: case, each coordinate with its units (Fx_N ... My_N_mm,
+    dx_mm ... by_rad, position, cage_angle_rad ...), status (the integer code) if given, the 25 K entries
+    (:data:`K_COLUMNS`), then the text columns status_name (if given) and matrix."""
+    names = ["case"] + [f"{name}{units_suffix(units)}" for name, (_, units) in (coords or {}).items()]
+    return names + (["status"] if status else []) + list(K_COLUMNS) + (["status_name"] if status else []) + ["matrix"]
+
+
+def write_csv(path, K, overwrite=False, coords: dict | None = None, status=None, matrix: str = KB) -> Path:
+    """One row per matrix, under a single header row that ``pandas.read_csv(path)`` and
+    ``numpy.genfromtxt(path, delimiter=",", names=True, dtype=None)`` read as it is (no comment line): the
+    case index, what the case is (``coords``: name -> (values, units), e.g. Fx ... My), the case's integer
+    ``status`` code (fastbearing.status, if given), the 25 entries K_ij in row-major DOF order (x, y, z, tx,
+    ty), then the status names (e.g. "converged+beyond_validity") and ``matrix`` (which matrix this is).
+    Every numeric column's name ends in its units: Fx_N, My_N_mm, dx_mm, bx_rad, kxx_N_per_mm (N/mm),
+    kxtx_N_per_rad (N/rad), ktxty_N_mm_per_rad (N*mm/rad)."""
     path = Path(path)
     _check_output(path, overwrite)
     Ks = _as_matrices(K)
     columns = _coordinate_columns(coords, len(Ks))
-    header = (["case"] + [f"{name} [{units}]" for name, _, units in columns]
-              + [f"k_{a}{b} [{k_entry_units(i, j)}]" for i, a in enumerate(DOF) for j, b in enumerate(DOF)])
+    states = _status_columns(status, len(Ks))
+    header = csv_header({name: (v, units) for name, v, units in columns}, states is not None)
+    if len(set(header)) != len(header):
+        raise ValueError(f"coordinate names clash with the CSV's own columns: {header}")
+    label = _plain_text(matrix)
 
     def write(tmp):
         with tmp.open("w", newline="") as fh:
-            fh.write(f"# fastbearing Kb, DOF order {', '.join(DOF)}; units: {UNITS}\n")
             w = csv.writer(fh)
             w.writerow(header)
             for i, k in enumerate(Ks):
-                w.writerow([i] + [repr(float(v[i])) for _, v, _ in columns] + [repr(float(v)) for v in k.ravel()])
+                row = [i] + [repr(float(v[i])) for _, v, _ in columns]
+                row += [int(states[0][i])] if states else []
+                row += [repr(float(v)) for v in k.ravel()]
+                row += [states[1][i]] if states else []
+                w.writerow(row + [label])
     return _publish(path, write)
 
 
 def read_csv(path) -> np.ndarray:
-    """The (N, 5, 5) Kb of a CSV from :func:`write_csv` (columns found by their k_ names)."""
+    """The (N, 5, 5) Kb of a CSV from :func:`write_csv` (columns found by their names, :data:`K_COLUMNS`;
+    leading ``#`` lines, as older versions wrote, are skipped)."""
     with open(path, newline="") as fh:
-        fh.readline()
-        header = next(csv.reader(fh))
-    cols = [i for i, h in enumerate(header) if h.startswith("k_")]
-    rows = np.loadtxt(path, delimiter=",", comments="#", skiprows=2, ndmin=2)
-    return rows[:, cols].reshape(-1, 5, 5)
+        rows = [r for r in csv.reader(line for line in fh if not line.startswith("#")) if r]
+    header, body = rows[0], rows[1:]
+    old = [f"k_{a}{b} [{k_entry_units(i, j)}]" for i, a in enumerate(DOF) for j, b in enumerate(DOF)]
+    names = K_COLUMNS if K_COLUMNS[0] in header else old
+    missing = [n for n in names if n not in header]
+    if missing:
+        raise ValueError(f"{path} has no column {missing[0]}: not a CSV from fastbearing export")
+    cols = [header.index(n) for n in names]
+    return np.array([[float(r[c]) for c in cols] for r in body], dtype=float).reshape(-1, 5, 5)
 
 
-def write_json(path, K, overwrite=False, extra: dict | None = None, coords: dict | None = None) -> Path:
-    """{"dof": [...], "units": ..., "K": 5x5 or a list of them, "cases": {name: {"units", "values"}}},
-    plus ``extra`` (e.g. q, f, status)."""
+def write_json(path, K, overwrite=False, extra: dict | None = None, coords: dict | None = None, status=None,
+               matrix: str = KB) -> Path:
+    """{"matrix": which matrix, "dof": [...], "units": ..., "K": 5x5 or a list of them, "cases": {name:
+    {"units", "values"}}}, with the integer ``status`` codes given (fastbearing.status) as "status_code"
+    and their names as "status" (one value for one matrix, else a list), plus ``extra`` (e.g. q, f,
+    status of a solve). Units: N, mm, rad (K: N/mm, N*mm/rad, N/rad)."""
     path = Path(path)
     _check_output(path, overwrite)
     Ks = _as_matrices(K)
-    body = {"dof": list(DOF), "units": UNITS, "K": Ks[0].tolist() if np.ndim(K) == 2 else Ks.tolist()}
+    one = np.ndim(K) == 2
+    body = {"matrix": matrix, "dof": list(DOF), "units": UNITS, "K": Ks[0].tolist() if one else Ks.tolist()}
     columns = _coordinate_columns(coords, len(Ks))
     if columns:
-        one = np.ndim(K) == 2
         body["cases"] = {name: {"units": units, "values": float(v[0]) if one else v.tolist()}
                          for name, v, units in columns}
+    states = _status_columns(status, len(Ks))
+    if states:
+        body["status"] = states[1][0] if one else states[1]
+        body["status_code"] = int(states[0][0]) if one else states[0].tolist()
     body.update(extra or {})
     return _publish(path, lambda tmp: tmp.write_text(json.dumps(body, indent=1)))
 
 
-def write_npz(path, K, overwrite=False, coords: dict | None = None, **arrays) -> Path:
-    """NumPy .npz with K, dof (names) and units (text), each coordinate of ``coords`` as an array of its
-    own name with its units in ``coordinate_units`` ("Fx: N", ...), plus any other arrays given."""
+def write_npz(path, K, overwrite=False, coords: dict | None = None, status=None, matrix: str = KB,
+              **arrays) -> Path:
+    """NumPy .npz with K, dof (names), units (text) and matrix (which matrix K is, text), each coordinate of
+    ``coords`` as an array of its own name with its units in ``coordinate_units`` ("Fx: N", ...), the
+    integer ``status`` codes given (fastbearing.status) as status and their names as status_name, plus
+    any other arrays given. Units: N, mm, rad (K: N/mm, N*mm/rad, N/rad)."""
     path = Path(path)
     _check_output(path, overwrite)
     Ks = _as_matrices(K)
@@ -272,13 +434,17 @@ def write_npz(path, K, overwrite=False, coords: dict | None = None, **arrays) ->
     named = {name: v for name, v, _ in columns}
     if columns:
         named["coordinate_units"] = np.array([f"{name}: {units}" for name, _, units in columns])
-    clash = sorted(set(named) & {"K", "dof", "units"})
+    clash = sorted(set(named) & {"K", "dof", "units", "matrix", "status", "status_name"})
     if clash:
         raise ValueError(f"coordinate names {clash} clash with the npz's own arrays")
+    states = _status_columns(status, len(Ks))
+    if states:
+        named["status"], named["status_name"] = states[0], np.array(states[1])
 
     def write(tmp):
         with tmp.open("wb") as fh:
-            np.savez(fh, K=np.asarray(K, dtype=float), dof=np.array(DOF), units=np.array(UNITS), **named, **arrays)
+            np.savez(fh, K=np.asarray(K, dtype=float), dof=np.array(DOF), units=np.array(UNITS),
+                     matrix=np.array(matrix), **named, **arrays)
     return _publish(path, write)
 
 
@@ -288,7 +454,15 @@ def _dmig_real(value: float) -> str:
     return f"{text:>16s}"
 
 
-def write_dmig(path, K, grid: int, name: str = "KBRG", ground_grid: int | None = None, overwrite=False) -> Path:
+def _comment(text: str, width: int = 80) -> list[str]:
+    """``text`` as Nastran comment lines ("$ ..."), each at most ``width`` characters."""
+    import textwrap
+
+    return ["$ " + line for line in textwrap.wrap(text, width - 2, break_on_hyphens=False)]
+
+
+def write_dmig(path, K, grid: int, name: str = "KBRG", ground_grid: int | None = None, overwrite=False,
+               matrix: str = KB, centre: str = KB_CENTRE) -> Path:
     """Nastran DMIG bulk data (large field, real double precision) for one 5x5 Kb.
 
     Units: fastbearing's N, mm, rad are Nastran's consistent N-mm-t-s system,
@@ -299,6 +473,13 @@ def write_dmig(path, K, grid: int, name: str = "KBRG", ground_grid: int | None =
     as K2GG = NAME. A symmetric Kb is written as its upper triangle (IFO = 6); a Kb that is not (at
     shaft speed: the friction of the balls' gyroscopic moments) as the whole square matrix (IFO = 1),
     so nothing of it is lost.
+
+    Placement, said in the file's comment lines too: ``grid`` must sit at ``centre`` (the bearing centre
+    for a bearing's Kb) with its output coordinate system's z along the shaft axis (fastbearing's x, y, z,
+    tx, ty are components 1-5 there; a model whose shaft runs along x needs such a coordinate system on
+    that grid, GRID's CD field); the ``ground_grid`` spring holds only when the two grids coincide (same
+    point, same output system); an unsymmetric Kb needs a solution sequence that accepts an unsymmetric
+    stiffness. ``matrix`` (which matrix K is) heads the comment lines.
     """
     path = Path(path)
     _check_output(path, overwrite)
@@ -317,10 +498,28 @@ def write_dmig(path, K, grid: int, name: str = "KBRG", ground_grid: int | None =
     if ground_grid is not None:
         dofs += [(ground_grid, c) for c in NASTRAN_COMPONENTS]
         big = np.block([[k, -k], [-k, k]])
-    lines = [f"$ fastbearing bearing stiffness Kb, DOF order {', '.join(DOF)} -> components 1-5",
-             "$ units (Nastran N-mm-t-s system): N/mm among x, y, z; N*mm/rad among",
-             "$ tx, ty; N/rad between translations and tilts",
-             f"DMIG    {name:<8s}       0{6 if symmetric else 1:>8d}       2       0"]
+    lines = _comment(f"fastbearing {matrix}; DOF order {', '.join(DOF)} -> components 1-5 of grid {grid}"
+                     + (f" and of grid {ground_grid}" if ground_grid is not None else "")
+                     + "; use it in case control as K2GG = " + name)
+    lines += _comment("units (Nastran N-mm-t-s system): N/mm among x, y, z; N*mm/rad among tx, ty; N/rad "
+                      "between translations and tilts")
+    lines += _comment(f"placement: grid {grid} must sit at {centre}, its output coordinate system (GRID CD) "
+                      "with z along the shaft axis and x, y across it as in fastbearing; a model whose shaft "
+                      "runs along x (or any axis but z) needs such a coordinate system on that grid")
+    if ground_grid is None:
+        lines += _comment("the outer ring is taken as grounded (the matrix acts on one grid only)")
+    else:
+        lines += _comment(f"the spring [[K, -K], [-K, K]] between grids {grid} and {ground_grid} holds only "
+                          "for coincident grids (same point, same output coordinate system); grids at "
+                          "different points need K carried by the offset, which this file does not do")
+    if symmetric:
+        lines += _comment("K is symmetric: its upper triangle is written (IFO = 6); an unsymmetric Kb (a "
+                          "bearing at speed) is written whole (IFO = 1) and needs a solution sequence that "
+                          "accepts an unsymmetric stiffness")
+    else:
+        lines += _comment("K is NOT symmetric (a bearing at speed): written whole (IFO = 1); it needs a "
+                          "solution sequence that accepts an unsymmetric stiffness matrix (K2GG)")
+    lines.append(f"DMIG    {name:<8s}       0{6 if symmetric else 1:>8d}       2       0")
     for j, (gj, cj) in enumerate(dofs):
         entries = [(gi, ci, big[i, j]) for i, (gi, ci) in enumerate(dofs)
                    if (i <= j or not symmetric) and big[i, j] != 0.0]
@@ -347,13 +546,55 @@ def read_dmig(path) -> dict:
     return out
 
 
-def ross_arguments(K, node: int = 0) -> dict:
-    """Keyword arguments of ROSS's ``BearingElement`` (SI units: N/m) from one Kb.
+def _k_name(i: int, j: int) -> str:
+    return f"k{DOF[i]}{DOF[j]}"
 
-    ROSS's bearing element has no tilt stiffness and no translation-tilt
-    coupling: those terms are dropped, with a warning, which for an angular
-    contact bearing under moment or combined load changes natural
-    frequencies (the paper's Table 5 lesson).
+
+#: Kb entries ROSS's BearingElement keeps (as kxx, kxy, kyx, kyy, kzz), and the three groups it drops.
+ROSS_KEPT = ((0, 0), (0, 1), (1, 0), (1, 1), (2, 2))
+ROSS_DROPPED_AXIAL = ((0, 2), (2, 0), (1, 2), (2, 1))
+ROSS_DROPPED_TILT = ((3, 3), (3, 4), (4, 3), (4, 4))
+ROSS_DROPPED_COUPLING = tuple((i, j) for i in range(5) for j in range(5) if (i < 3) != (j < 3))
+
+
+def ross_dropped(K) -> tuple[str, bool]:
+    """What ROSS's BearingElement drops of one 5x5 Kb (N, mm, rad), in words with sizes, and whether any
+    dropped entry is non-zero: the couplings to the axial dof z (kxz, kzx, kyz, kzy; largest |k| in N/mm
+    and in % of the largest kept diagonal kxx, kyy, kzz), the tilt stiffness (ktxtx ... ktyty; largest |k|
+    in N*mm/rad) and the 12 translation-tilt couplings (kxtx ... ktyz; largest |k| in N/rad and, as a
+    dimensionless size, the largest |k_ij| / sqrt(k_ii k_jj) in %)."""
+    k = _as_matrices(K)[0]
+
+    def largest(entries):
+        values = [abs(k[i, j]) for i, j in entries]
+        return max(values), entries[int(np.argmax(values))]
+
+    diag, (di, dj) = largest(ROSS_KEPT[0:1] + ROSS_KEPT[3:])
+    axial, (ai, aj) = largest(ROSS_DROPPED_AXIAL)
+    tilt, _ = largest(ROSS_DROPPED_TILT)
+    coupling, (ci, cj) = largest(ROSS_DROPPED_COUPLING)
+    ratios = [abs(k[i, j]) / np.sqrt(k[i, i] * k[j, j]) for i, j in ROSS_DROPPED_COUPLING
+              if k[i, i] * k[j, j] > 0]
+
+    def names(entries):
+        return ", ".join(_k_name(i, j) for i, j in entries)
+
+    share = f", {100 * axial / diag:.3g}% of the largest kept diagonal {_k_name(di, dj)}" if diag > 0 else ""
+    size = f", largest |k_ij|/sqrt(k_ii*k_jj) {100 * max(ratios):.3g}%" if ratios else ""
+    text = (f"ROSS BearingElement keeps {names(ROSS_KEPT)} only; dropped: the couplings to the axial dof z "
+            f"{names(ROSS_DROPPED_AXIAL)} (largest |{_k_name(ai, aj)}| = {axial:.4g} N/mm{share}), the tilt "
+            f"stiffness {names(ROSS_DROPPED_TILT)} (largest |k| = {tilt:.4g} N*mm/rad) and the translation-tilt "
+            f"couplings {names(ROSS_DROPPED_COUPLING)} (largest |{_k_name(ci, cj)}| = {coupling:.4g} N/rad{size})")
+    return text, bool(axial > 0 or tilt > 0 or coupling > 0)
+
+
+def ross_arguments(K, node: int = 0) -> dict:
+    """Keyword arguments of ROSS's ``BearingElement`` (SI units: N/m) from one Kb (N/mm), plus a "units" note.
+
+    ROSS's bearing element holds kxx, kxy, kyx, kyy and kzz only: the couplings to the axial dof z
+    (kxz, kzx, kyz, kzy), the tilt stiffness and the translation-tilt couplings are dropped, with a
+    warning that names them and their sizes (:func:`ross_dropped`); for an angular contact bearing under
+    moment or combined load that changes natural frequencies (the paper's Table 5 lesson).
     """
     Ks = _as_matrices(K)
     if Ks.shape[0] != 1:
@@ -361,18 +602,21 @@ def ross_arguments(K, node: int = 0) -> dict:
     if isinstance(node, bool) or not isinstance(node, (int, np.integer)) or node < 0:
         raise ValueError(f"node must be a shaft node number >= 0, got {node!r}")
     k = Ks[0] * 1e3  # N/mm -> N/m
-    dropped = np.abs(Ks[0][:3, 3:]).max(initial=0.0) > 0 or np.abs(Ks[0][3:, 3:]).max(initial=0.0) > 0
+    text, dropped = ross_dropped(Ks[0])
     if dropped:
-        warnings.warn("ROSS BearingElement keeps kxx, kxy, kyx, kyy, kzz only: the tilt stiffness and the "
-                      "translation-tilt coupling terms of Kb are dropped", stacklevel=2)
+        warnings.warn(text, stacklevel=2)
     return {"n": int(node), "kxx": float(k[0, 0]), "kxy": float(k[0, 1]), "kyx": float(k[1, 0]),
             "kyy": float(k[1, 1]), "kzz": float(k[2, 2]), "cxx": 0.0,
             "units": "N/m (SI, as ROSS expects); damping not modelled by fastbearing (cxx = 0)"}
 
 
-def write_ross(path, K, node: int = 0, overwrite=False) -> Path:
-    """The :func:`ross_arguments` as JSON, for ``ross.BearingElement(**args)`` (drop the units key)."""
+def write_ross(path, K, node: int = 0, overwrite=False, matrix: str = KB) -> Path:
+    """The :func:`ross_arguments` as JSON, for ``ross.BearingElement(**args)`` once fastbearing's notes
+    (:data:`ROSS_NOTES`: "units"; "matrix", which matrix this is; "dropped", what ROSS drops of it) are
+    removed."""
     path = Path(path)
     _check_output(path, overwrite)
     args = ross_arguments(K, node)
+    args["matrix"] = matrix
+    args["dropped"] = ross_dropped(K)[0]
     return _publish(path, lambda tmp: tmp.write_text(json.dumps(args, indent=1)))

@@ -8,6 +8,8 @@ extension, and an existing file is never replaced unless ``overwrite``.
 
 Data are in N, mm, rad. Axis labels and titles carry the units, with a
 decimal prefix chosen for readable ticks (kN/mm, MN*mm/rad, mrad);
+angles of the geometry (contact angles, azimuths, the cage angle) are
+drawn in degrees, as a user types them, tilts (bx, by) in rad or mrad;
 ``base_units=True`` keeps N, mm, rad as stored, in titles too.
 
 Curves of one panel that coincide (:func:`coincident`) are drawn so that
@@ -47,6 +49,9 @@ LIFE_VARIABLES = {"L10r": ("million revolutions", "rating life L10r"),
                   "L10r_row": ("million revolutions", "rating life L10r of a row"),
                   "static_safety": ("1", "static safety S0")}
 LOG_VARIABLES = ("L10r", "L10r_row")
+#: Variables that are angles (stored in rad, as every angle in the files): pictures show them in degrees, as a
+#: user types angles (``base_units`` keeps rad).
+ANGLE_VARIABLES = ("min_contact_angle", "max_contact_angle")
 NORMALISE = ("none", "first", "mean")
 PASSAGE_X = ("angle", "period", "time")
 #: The paper's Fig. 13/14 entries, the default of passage plots.
@@ -124,6 +129,40 @@ def _figure_legend(fig, handles, **kwargs):
         return fig.legend(handles=handles, loc="lower center", **kwargs)
 
 
+def _wrap(text: str, width: int) -> str:
+    """``text`` on lines of about ``width`` characters, broken at spaces outside math ($...$)."""
+    words = []
+    for word in text.split(" "):
+        if words and words[-1].count("$") % 2:  # inside $...$: keep the formula whole
+            words[-1] += " " + word
+        else:
+            words.append(word)
+    lines = [""]
+    for word in words:
+        if lines[-1] and len(lines[-1]) + 1 + len(word) > width:
+            lines.append(word)
+        else:
+            lines[-1] = f"{lines[-1]} {word}" if lines[-1] else word
+    return "\n".join(lines)
+
+
+def fit_ylabels(fig, axes, fill: float = 0.95) -> None:
+    """Wrap each y-label longer than its panel is tall onto more lines, so that the labels of panels stacked
+    one above the other do not run into each other (a long label beside a short panel: ``plot line --var
+    kxx,kzz,min_contact_angle``)."""
+    fig.draw_without_rendering()  # lay the figure out: the panels' heights
+    for ax in axes:
+        label = ax.yaxis.label
+        text = label.get_text()
+        room = fill * ax.get_window_extent().height
+        if " " not in text or label.get_window_extent().height <= room:
+            continue
+        for width in range(len(text) - 1, 0, -1):
+            label.set_text(_wrap(text, width))
+            if label.get_window_extent().height <= room:
+                break
+
+
 def _finish(fig, out, overwrite):
     if out is not None:
         save(fig, out, overwrite)
@@ -172,6 +211,13 @@ def scale_units(values, units: str, base_units: bool = False) -> tuple[float, st
     elif units == "s" and 0 < top < 1:
         return 1e3, "ms"
     return 1.0, shown
+
+
+def variable_units(name: str, values, units: str, base_units: bool = False) -> tuple[float, str]:
+    """Factor and unit text for drawing variable ``name`` (:func:`scale_units`; an angle in degrees)."""
+    if name in ANGLE_VARIABLES and units == "rad" and not base_units:
+        return 180.0 / math.pi, "deg"
+    return scale_units(values, units, base_units)
 
 
 def axis_label(text: str, units: str) -> str:
@@ -322,7 +368,8 @@ def _axis_units(ds, name: str) -> str:
 
 def select(ds, da, keep, at=None, default: str = "middle", base_units: bool = False):
     """Fix every case axis not in ``keep`` at the nearest value of ``at[axis]`` (default: the middle
-    value, or the first with ``default="first"``).
+    value, or the first with ``default="first"``); a value beyond the axis's first or last value is a
+    ValueError naming the axis and its range, not its edge's point.
 
     Returns the selected ``da``, the matching solver ``status`` and the operating point as a list of
     'name = value units' texts (for titles; N, mm, rad as stored with ``base_units``).
@@ -344,7 +391,7 @@ def select(ds, da, keep, at=None, default: str = "middle", base_units: bool = Fa
             value = at[name]
             if isinstance(value, bool) or not isinstance(value, (int, float, np.number)) or not math.isfinite(value):
                 raise ValueError(f"at.{name} must be a finite number, got {value!r}")
-            k = int(np.argmin(np.abs(values - value)))
+            k = _nearest(ds, name, values, value)
         else:
             k = len(values) // 2 if default == "middle" else 0
         fixed[name] = k
@@ -360,6 +407,29 @@ def select(ds, da, keep, at=None, default: str = "middle", base_units: bool = Fa
         if name in ds.coords and ds[name].ndim == 0 and float(ds[name]) != 0.0:
             where.append(_value_text(name, float(ds[name]), _axis_units(ds, name), base_units))
     return da.isel(fixed), ds["status"].isel(fixed), where
+
+
+#: How far beyond an axis's first or last value ``at`` may reach, as a fraction of the axis's grid spacing (of
+#: its magnitude for an axis of one value): rounding in a typed value, not a point off the grid (as
+#: ``fastbearing export --at``).
+AT_TOLERANCE = 1e-9
+
+
+def _nearest(ds, name: str, values, value: float) -> int:
+    """Index of the grid value of axis ``name`` nearest to ``value``; a ValueError naming the axis and its range
+    (in its units) when ``value`` lies beyond the axis's first or last value: nearest is for points between
+    grid values, not for extrapolation (the edge's point would be drawn as if it were the one asked for)."""
+    values = np.asarray(values, dtype=float).reshape(-1)
+    low, high = float(values.min()), float(values.max())
+    spacing = (high - low) / (len(values) - 1) if len(values) > 1 else 0.0
+    tol = AT_TOLERANCE * (spacing or max(abs(low), abs(high), 1.0))
+    if not low - tol <= value <= high + tol:
+        units = _axis_units(ds, name)
+        unit = "" if units in ("", "1") else f" {units}"
+        span = f"[{low:g}, {high:g}]" if len(values) > 1 else f"{low:g} only"
+        raise ValueError(f"at {name}={value:g} is outside the file's {name} axis {span}{unit} ({len(values)} "
+                         "values): give a value within it")
+    return int(np.argmin(np.abs(values - value)))
 
 
 def _value_text(name: str, value: float, units: str, base_units: bool = False) -> str:
@@ -405,7 +475,8 @@ def plot_map(source, var: str, x: str, y: str, *, at=None, row=None, kind: str =
     x, y : str
         Grid axes for the horizontal and vertical directions (e.g. ``Fx``, ``My``).
     at : dict, optional
-        Values for the other axes; the nearest grid value is used (default: the middle one).
+        Values for the other axes (N, N*mm, mm, rad, rpm as stored); the nearest grid value is used (default:
+        the middle one). A value beyond an axis's range is a ValueError.
     kind : {"contour", "heatmap"}
     out : str or Path, optional
         Output file .png, .svg or .pdf.
@@ -438,10 +509,11 @@ def plot_map(source, var: str, x: str, y: str, *, at=None, row=None, kind: str =
             ax = fig.add_subplot()
             fx, ux = scale_units(xv, _axis_units(ds, x), base_units)
             fy, uy = scale_units(yv, _axis_units(ds, y), base_units)
-            fz, uz = (1.0, units) if var in LIFE_VARIABLES else scale_units(z, units, base_units)
+            fz, uz = (1.0, units) if var in LIFE_VARIABLES else variable_units(var, z, units, base_units)
             finite = z[np.isfinite(z)]
             flat = finite.size == 0 or np.ptp(finite) <= 1e-12 * max(1.0, np.abs(finite).max())
-            if log and finite.size and finite.min() > 0 and not flat:
+            logbar = log and finite.size and finite.min() > 0 and not flat
+            if logbar:
                 from matplotlib import colors, ticker
 
                 if kind == "heatmap":
@@ -456,6 +528,8 @@ def plot_map(source, var: str, x: str, y: str, *, at=None, row=None, kind: str =
                 mesh = ax.contourf(xv * fx, yv * fy, z * fz, levels=levels)
                 ax.contour(mesh, colors="k", linewidths=0.4, alpha=0.6)
             bar = fig.colorbar(mesh, ax=ax)
+            if logbar:
+                _label_log_colorbar(bar, finite.min(), finite.max())
             what = symbol(var) + ("" if row is None or var not in (*ROW_VARIABLES, "L10r_row") else f", row {row}")
             bar.set_label(axis_label(what, uz))
             ax.set_xlabel(axis_label(symbol(x), ux))
@@ -466,6 +540,19 @@ def plot_map(source, var: str, x: str, y: str, *, at=None, row=None, kind: str =
                          + (f"\n{blank} case(s) not converged (blank)" if blank else "")
                          + (f"\n{unbounded} unloaded case(s): unbounded life (blank)" if unbounded else ""))
             return _finish(fig, out, overwrite)
+
+
+def _label_log_colorbar(bar, low: float, high: float) -> None:
+    """Label a logarithmic colour bar between its decades too (1, 2, 5 x 10^n; every digit under a decade's
+    span): with the decades alone a map spanning one or two decades shows only one or two numbers."""
+    from matplotlib import ticker
+
+    decades = math.log10(high / low)
+    subs = np.arange(1.0, 10.0) if decades < 1.0 else (1.0, 2.0, 5.0) if decades <= 5.0 else (1.0,)
+    bar.locator = ticker.LogLocator(subs=subs)
+    bar.formatter = ticker.LogFormatterSciNotation(labelOnlyBase=False, minor_thresholds=(math.inf, math.inf))
+    bar.minorlocator = ticker.LogLocator(subs=np.arange(2.0, 10.0))
+    bar.update_ticks()
 
 
 def plot_lines(source, var, x: str, *, at=None, row=None, series=None, out=None, overwrite: bool = False,
@@ -513,15 +600,18 @@ def plot_lines(source, var, x: str, *, at=None, row=None, series=None, out=None,
                 if "row" in da.dims:
                     rows = [f"row {r}" for r in range(ds.sizes["row"])]
                     labels = [f"{a}, {b}" for a in labels for b in rows] if labels else rows
-                fv, uv = scale_units(values, units, base_units)
+                fv, uv = variable_units(name, values, units, base_units)
                 look = {"marker": "o" if len(xv) <= _SPARSE else None}
                 draw_curves(ax, xv * fx, [(labels[k] if labels else None, values[:, k] * fv, look)
                                           for k in range(values.shape[1])])
                 ax.set_ylabel(axis_label(symbol(name), uv))
-                if labels:
+                if len(labels) > 4:  # beside the panel: inside it such a legend hides curves
+                    ax.legend(fontsize=8, loc="center left", bbox_to_anchor=(1.01, 0.5))
+                elif labels:
                     ax.legend(fontsize=8)
             axes[-1].set_xlabel(axis_label(symbol(x), ux))
             axes[0].set_title(f"{_bearing_title(ds)}" + (f" at {', '.join(where)}" if where else ""))
+            fit_ylabels(fig, axes)
             return _finish(fig, out, overwrite)
 
 
@@ -546,8 +636,9 @@ def passage_curve(ds, var: str, *, at=None, x: str = "angle", normalise: str = "
     values = np.where(st.converged_mask(status.values), da.values, np.nan)
     values = np.append(values, values[0])
     angle = np.append(ds["cage_angle"].values, float(ds.attrs["period_rad"]))
-    if x == "angle":
-        xv, xunits, xtext = angle, "rad", r"cage angle $\psi_c$"
+    if x == "angle":  # degrees, as a user types angles (base_units: rad, as stored)
+        xv, xunits = (angle, "rad") if base_units else (np.degrees(angle), "deg")
+        xtext = r"cage angle $\psi_c$"
     elif x == "period":
         xv, xunits, xtext = angle / float(ds.attrs["period_rad"]), "1", "ball passage period"
     else:
@@ -572,7 +663,7 @@ def plot_passage(source, var=PAPER_ENTRIES, *, at=None, x: str = "angle", normal
                  overwrite: bool = False, size=None, dpi: int = DEFAULT_DPI, base_units: bool = False):
     """Kb entries over one ball-pass period of a ball-passage table.
 
-    ``x``: ``"angle"`` (cage angle, rad), ``"period"`` (fraction of the
+    ``x``: ``"angle"`` (cage angle, deg; rad with ``base_units``), ``"period"`` (fraction of the
     period, as in the paper) or ``"time"`` (s, tables with a shaft speed).
     Normalised entries (``"first"``: by the value at position 0, the paper's
     Figs. 13-14; ``"mean"``) share one panel; absolute entries get one panel
@@ -604,6 +695,7 @@ def plot_passage(source, var=PAPER_ENTRIES, *, at=None, x: str = "angle", normal
             axes[-1].set_xlabel(curves[0][2])
             axes[0].set_title(f"{_bearing_title(ds)}, one ball-pass period (Z = {ds.attrs['period_order']}), "
                               f"{positions} cage positions" + _where_text(ds, ("position",), curves[0][4]))
+            fit_ylabels(fig, axes)
             return _finish(fig, out, overwrite)
 
 
@@ -669,9 +761,16 @@ def plot_spectrum(source, var=PAPER_ENTRIES, *, at=None, normalise: str = "mean"
 
 # -- load zone ------------------------------------------------------------------------
 
+def _element_name(row) -> str:
+    """One of a row's elements in words: "ball", "roller" (its ``element_word``'s first word, singular)."""
+    word = row.element_word.split()[0]  # "balls", "rollers"; "balls (one contact pair)"
+    return word[:-1] if word.endswith("s") else word
+
+
 def plot_load_zone(bearing, q, *, title: str | None = None, out=None, overwrite: bool = False, size=None,
                    dpi: int = DEFAULT_DPI):
-    """Polar plot of the ball loads Q (N) against azimuth psi (rad), one panel per row (the load zone).
+    """Polar plot of the element (ball or roller) loads Q (N) against azimuth psi (deg), one panel per row
+    (the load zone). Each row's texts name its own elements (``element_word``: balls, rollers).
 
     Parameters
     ----------
@@ -692,7 +791,7 @@ def plot_load_zone(bearing, q, *, title: str | None = None, out=None, overwrite:
     n = bearing.n_rows
     top = float(Q.max()) * 1.15 if Q.max() > 0 else 1.0
     with style():
-        fig = new_figure(size or (max(450, 400 * min(n, 4)), 520 * math.ceil(n / 4)), dpi)
+        fig = new_figure(size or (max(600, 400 * min(n, 4)), 520 * math.ceil(n / 4)), dpi)
         cols = min(n, 4)
         for r, row in enumerate(bearing.rows):
             ax = fig.add_subplot(math.ceil(n / cols), cols, r + 1, projection="polar")
@@ -705,19 +804,17 @@ def plot_load_zone(bearing, q, *, title: str | None = None, out=None, overwrite:
             for a, v in zip(p, load):
                 ax.plot([a, a], [0, v], color="C0", linewidth=1.2)
             loaded = load > 0
-            one = row.element_word[:-1]  # ball, roller
+            one = _element_name(row)  # ball, roller
             handles = ax.plot(p[loaded], load[loaded], "o", color="C0", markersize=5,
                               label=f"loaded {one} (radius: its load Q)")
             handles += ax.plot(p, np.full(p.size, top), "o", color="0.6", markersize=3, clip_on=False,
                                label=f"{one} positions: every {one} of the row, loaded or not (on the rim)")
             ax.set_ylim(0, top)
-            ax.set_xticks(np.arange(8) * np.pi / 4)
-            ax.set_xticklabels(["0", r"$\pi/4$", r"$\pi/2$", r"$3\pi/4$", r"$\pi$", r"$5\pi/4$", r"$3\pi/2$",
-                                r"$7\pi/4$"])
+            ax.set_thetagrids(np.arange(0, 360, 45), [f"{d}\u00b0" for d in range(0, 360, 45)])
             ax.yaxis.set_major_locator(MaxNLocator(4))
             ax.set_rlabel_position(22.5)
             ax.tick_params(axis="y", labelsize=8)
-            ax.set_xlabel(axis_label(r"azimuth $\psi$ from x toward y", "rad") + f";  radius: {one} load Q (N)",
+            ax.set_xlabel(axis_label(r"azimuth $\psi$ from x toward y", "deg") + f";  radius: {one} load Q (N)",
                           fontsize=8)
             a_loaded = alpha[sel][loaded]
             angles = (f"\ncontact angle {np.degrees(a_loaded.min()):.1f} to {np.degrees(a_loaded.max()):.1f} deg"
@@ -726,11 +823,16 @@ def plot_load_zone(bearing, q, *, title: str | None = None, out=None, overwrite:
                          f"{int(loaded.sum())} of {row.n_elements} {row.element_word}"
                          f" loaded, max Q = {load.max():.4g} N"
                          + angles, fontsize=9)
-        _figure_legend(fig, handles, ncol=2)
+        words = {_element_name(row) for row in bearing.rows}
+        if len(words) > 1:  # rows of balls and of rollers: the legend speaks of both
+            either = " or ".join(sorted(words))
+            for h in handles:  # the last row's
+                h.set_label(h.get_label().replace(one, either))
+        _figure_legend(fig, handles, ncol=2 if n > 1 else 1)
         q = np.asarray(q, dtype=float)
         # rounding noise of components that vanish by symmetry reads as 0
         size_q = max(np.abs(q[:3]).max(), bearing.length_scale * np.abs(q[3:]).max(), 1e-300)
         q = np.where(np.abs(q) < 1e-12 * size_q, 0.0, q)
-        fig.suptitle(title or f"Load zone of {bearing.name or 'bearing'} ({bearing.arrangement}) at q = "
+        fig.suptitle(title or f"Load zone of {bearing.name or 'bearing'} ({bearing.arrangement})\nat q = "
                      f"({q[0]:.4g}, {q[1]:.4g}, {q[2]:.4g}) mm, ({q[3]:.4g}, {q[4]:.4g}) rad", fontsize=10)
         return _finish(fig, out, overwrite)
