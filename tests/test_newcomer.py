@@ -89,3 +89,24 @@ def test_a_partial_run_from_another_config_names_the_overwrite_flag(tmp_path):
     part.write_bytes(b"not hdf5")
     with pytest.raises(ValueError, match=r"--overwrite \(Python: overwrite=True\)"):
         fb.loadmap(cfg, out, resume=True, progress=False)
+
+
+def test_a_command_that_starts_compiling_says_so_before_the_wait(monkeypatch, capsys):
+    """Any command (here `bearing`, made to compile a new kernel): the notice comes first, once."""
+    from numba import njit
+
+    from fastbearing import _cache, cli
+
+    monkeypatch.setattr(_cache, "_told", False)
+    fresh = njit(lambda x: x * 2)
+    command = cli._bearing_command
+
+    def compiling(args):
+        fresh(3)
+        print("the command's output")
+        return command(args)
+
+    monkeypatch.setattr(cli, "_bearing_command", compiling)
+    assert cli.main(["bearing", str(DATA / "6305.toml")]) == 0
+    out = capsys.readouterr()
+    assert out.err.startswith("fastbearing: compiling the kernels") and out.err.count("compiling") == 1

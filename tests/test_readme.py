@@ -39,6 +39,12 @@ from conftest import cli_run
 
 ROOT = Path(__file__).resolve().parents[1]
 README = ROOT / "README.md"
+#: The documentation site's guide pages (mkdocs.yml), run after the README in the order a reader meets their
+#: examples (a page may use a file an earlier one made: the quick start's map, a solve's JSON).
+GUIDE = ("index.md", "solve.md", "boundary-conditions.md", "load-maps.md", "passage.md", "geometry.md", "life.md", "high-speed.md",
+         "pictures.md", "shafts-and-export.md", "dask.md", "reliability.md", "units.md", "bearings.md",
+         "four-point.md", "rollers.md", "assumptions.md", "speed.md", "layout.md")
+DOCUMENTS = (README, *(ROOT / "docs" / name for name in GUIDE))
 SKIP = re.compile(r"<!--\s*readme:\s*skip\s*\((?P<why>[^)]+)\)\s*-->")
 ENVIRONMENT_STEPS = ("python3 -m venv", ". .venv/bin/activate", "pip install", "python -m pytest")
 
@@ -139,20 +145,20 @@ def run_command(command: str, where: str):
     return result
 
 
-def run_sh(block: Block) -> None:
+def run_sh(block: Block, page: str = "README") -> None:
     for k, line in enumerate(block.text.splitlines()):
         if line.strip() and not line.lstrip().startswith("#"):
             for step in fastbearing_steps(line.split(" #")[0]):
-                run_command(step, f"README line {block.line + k + 1}")
+                run_command(step, f"{page} line {block.line + k + 1}")
 
 
-def run_transcript(block: Block) -> int:
+def run_transcript(block: Block, page: str = "README") -> int:
     """Blocks of ``$ command`` lines followed by their output; returns how many commands ran."""
     lines = block.text.splitlines()
     starts = [k for k, line in enumerate(lines) if line.startswith("$ ")]
     for n, k in enumerate(starts):
         end = starts[n + 1] if n + 1 < len(starts) else len(lines)
-        where = f"README line {block.line + k + 1}"
+        where = f"{page} line {block.line + k + 1}"
         result = run_command(lines[k][2:], where)
         check_output(lines[k + 1:end], result.stdout + result.stderr, where)
     return len(starts)
@@ -181,12 +187,12 @@ def check_value(value, shown: str, where: str) -> None:
         assert abs(v - float(s)) <= tol, f"{where}: {v!r}, README says {s}"
 
 
-def run_python(block: Block, namespace: dict) -> None:
+def run_python(block: Block, namespace: dict, page: str = "README") -> None:
     code = textwrap.dedent(block.text)
     tree = ast.parse(code)
     lines = code.splitlines()
     for node in tree.body:
-        where = f"README line {block.line + node.lineno}"
+        where = f"{page} line {block.line + node.lineno}"
         if isinstance(node, ast.Expr):
             value = eval(compile(ast.Expression(node.value), where, "eval"), namespace)
             comment = lines[node.end_lineno - 1][node.end_col_offset:].strip()
@@ -198,13 +204,13 @@ def run_python(block: Block, namespace: dict) -> None:
             exec(compile(ast.Module([node], []), where, "exec"), namespace)
 
 
-def check_toml(block: Block, folder: Path) -> None:
+def check_toml(block: Block, folder: Path, page: str = "README") -> None:
     """A TOML example is accepted by the reader of its tables."""
     from fastbearing.model.bearing_file import load_bearing
 
-    where = f"README line {block.line}"
+    where = f"{page} line {block.line}"
     body = tomllib.loads(block.text)
-    path = folder / f"readme-{block.line}.toml"
+    path = folder / f"{Path(page).stem}-{block.line}.toml"
     path.write_text(block.text)
     if "loadmap" in body:
         from fastbearing.jobs.loadmap import read_config
@@ -217,32 +223,39 @@ def check_toml(block: Block, folder: Path) -> None:
     read_config(path)
 
 
-def test_every_readme_example_runs_as_written(tmp_path, monkeypatch):
+def test_the_guide_runs_every_page_of_the_site():
+    """Every guide page of mkdocs.yml's nav is run here (and none the nav lacks), so no example goes untested."""
+    nav = re.findall(r"^\s+- [^:]+: ([\w.-]+\.md)\s*$", (ROOT / "mkdocs.yml").read_text(), re.M)
+    assert sorted(nav) == sorted((*GUIDE, "model.md")), nav
+
+
+def test_every_readme_and_guide_example_runs_as_written(tmp_path, monkeypatch):
     for name in ("data", "docs"):
         shutil.copytree(ROOT / name, tmp_path / name, ignore=shutil.ignore_patterns("*.h5", "*.part"))
     monkeypatch.chdir(tmp_path)
-    blocks = readme_blocks(README.read_text())
     namespace: dict = {"__name__": "readme"}
     ran = {"sh": 0, "transcript": 0, "python": 0, "toml": 0}
-    for block in blocks:
-        if block.skip is not None:
-            assert block.skip.strip(), f"README line {block.line}: a skip needs its reason"
-            continue
-        if block.lang == "sh":
-            run_sh(block)
-            ran["sh"] += 1
-        elif block.lang in ("", "console") and block.text.startswith("$ "):
-            ran["transcript"] += run_transcript(block)
-        elif block.lang == "python":
-            with contextlib.redirect_stdout(io.StringIO()):
-                run_python(block, namespace)
-            ran["python"] += 1
-        elif block.lang == "toml":
-            check_toml(block, tmp_path)
-            ran["toml"] += 1
-        else:
-            assert block.lang == "text", (f"README line {block.line}: a ```{block.lang} block: mark it sh, python, "
-                                          "toml or text, or start it with `$ fastbearing`")
+    for document in DOCUMENTS:
+        page = document.relative_to(ROOT).as_posix()
+        for block in readme_blocks(document.read_text()):
+            if block.skip is not None:
+                assert block.skip.strip(), f"{page} line {block.line}: a skip needs its reason"
+                continue
+            if block.lang == "sh":
+                run_sh(block, page)
+                ran["sh"] += 1
+            elif block.lang in ("", "console") and block.text.startswith("$ "):
+                ran["transcript"] += run_transcript(block, page)
+            elif block.lang == "python":
+                with contextlib.redirect_stdout(io.StringIO()):
+                    run_python(block, namespace, page)
+                ran["python"] += 1
+            elif block.lang == "toml":
+                check_toml(block, tmp_path, page)
+                ran["toml"] += 1
+            else:
+                assert block.lang == "text", (f"{page} line {block.line}: a ```{block.lang} block: mark it sh, "
+                                              "python, toml or text, or start it with `$ fastbearing`")
     assert min(ran.values()) > 0, ran
 
 

@@ -34,7 +34,7 @@ def tapered_pair(arrangement="TDO", **kw):
 
 
 def reference_f_K(bearing, q):
-    """Slow reference from the README's roller equations: every slice of every roller, in plain Python."""
+    """Slow reference from the roller equations (docs/rollers.md): every slice of every roller, in plain Python."""
     dx, dy, dz, bx, by = q
     f = np.zeros(5)
     K = np.zeros((5, 5))
@@ -150,7 +150,7 @@ def test_slicing_converges_with_a_crown_and_a_tilt():
     loaded directions at 60 and 120 slices agree within 0.2 %. Not every entry does: kyy and ktxtx come
     from the rollers at the edge of the load zone, whose contact ends inside the roller, where a slice's
     stiffness (10/9) k delta^(1/9) jumps as it enters contact; there the midpoint slices converge as
-    about h^1.1 (0.6 % and 1.4 % here; README, "Roller rows")."""
+    about h^1.1 (0.6 % and 1.4 % here; docs/rollers.md)."""
     q = [0.02, 0.0, 0.0, 0.0, 2e-4]
     K60 = fb.stiffness(cylindrical(slices=60, crown="circular", crown_radius=2000.0), q)[1]
     K120 = fb.stiffness(cylindrical(slices=120, crown="circular", crown_radius=2000.0), q)[1]

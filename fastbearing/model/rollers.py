@@ -56,7 +56,7 @@ PRELOAD_APPROACH_LIMIT = 0.005
 
 @dataclass(frozen=True)
 class RollerRow:
-    """One row of rollers (docs: README, "Roller rows").
+    """One row of rollers (docs/rollers.md).
 
     Parameters
     ----------
