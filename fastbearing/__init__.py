@@ -21,13 +21,15 @@ _PUBLIC = {
     **dict.fromkeys(("SolveManyResult", "SolveResult", "ball_loads", "num_threads", "solve", "solve_many",
                      "stiffness", "stiffness_many"), "api"),
     **dict.fromkeys(("ARRANGEMENTS", "Bearing", "Row", "preset_names"), "model.bearing"),
+    "FourPointRow": "model.four_point",
     **dict.fromkeys(("bearing_from_table", "load_bearing"), "model.bearing_file"),
     **dict.fromkeys(("BallContacts", "ball_contacts"), "analysis.contacts"),
     **dict.fromkeys(("MATERIALS", "SILICON_NITRIDE", "STEEL", "Geometry", "HertzContact", "Material",
                      "geometry_from_table", "hertz_contact", "race_contacts"), "model.geometry"),
     **dict.fromkeys(("LifeResult", "rating_life"), "analysis.life"),
     **dict.fromkeys(("loadmap", "open_dataset"), "jobs.loadmap"),
-    **dict.fromkeys(("bearing_report", "bearing_report_text"), "report.bearing_report"),
+    **dict.fromkeys(("bearing_report", "bearing_report_text", "fault_frequency_report"), "report.bearing_report"),
+    **dict.fromkeys(("fault_frequencies", "fault_orders"), "analysis.faults"),
     "passage": "jobs.passage",
 }
 

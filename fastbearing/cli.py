@@ -124,9 +124,19 @@ def build_parser() -> argparse.ArgumentParser:
                            "Print a bearing file's model parameters with units: Hertz constant Kn, groove-centre "
                            "distance A0, inner groove-centre radius R, radial clearance rL, unloaded and free "
                            "contact angles, load-centre spread E of double rows, and for a [bearing.geometry] "
-                           "table the catalogue inputs and both race contacts."))
+                           "table the catalogue inputs and both race contacts. With --speed, also the fault "
+                           "frequencies (FTF, BPFO, BPFI, BSF, ball defect = 2 BSF) in Hz and as orders of the "
+                           "shaft speed, from the geometry's ball and pitch diameters and contact angle."))
     b.add_argument("file", metavar="FILE.toml", help="a bearing file with a [bearing] table")
-    b.add_argument("--json", action="store_true", help="print one JSON object on stdout")
+    b.add_argument("--json", action="store_true", help="print one JSON object on stdout (with --speed: the fault "
+                   "frequencies under fault_frequencies, name -> {hz, order}, and what they assume under "
+                   "fault_frequency_conditions)")
+    b.add_argument("--speed", type=float, metavar="RPM", help="shaft speed in rpm (> 0): add the fault frequencies "
+                   "(Hz, and orders of the shaft frequency rpm/60); needs [bearing.geometry]; the ring that turns is "
+                   "the geometry's rotating key (default inner)")
+    b.add_argument("--load", metavar="Fx,Fy,Fz,Mx,My", help="with --speed: use the loaded contact angle at this load "
+                   "on the inner ring (N, N, N, N*mm, N*mm; the mean over the loaded balls of a quasi-static solve) "
+                   "instead of the nominal one")
     m = sub.add_parser("loadmap", help="Kb over a grid or table of loads or displacements, to HDF5",
                        description=(
                            "Compute a load map: Kb (and q, f, status, load distribution) at every case of the "
@@ -537,11 +547,30 @@ def _bearing(args):
 
 
 def _bearing_command(args) -> int:
-    from .report.bearing_report import bearing_report, bearing_report_text
+    from .report.bearing_report import (bearing_report, bearing_report_text, fault_frequency_report,
+                                        fault_frequency_text)
+    from .validate import number
 
+    if args.load is not None and args.speed is None:
+        raise ValueError("--load goes with --speed (it sets the contact angle of the fault frequencies)")
+    speed = None if args.speed is None else number(args.speed, "--speed", low=0, low_open=True, units="rpm")
+    load = None if args.load is None else _five_numbers(args.load, "--load")
     bearing = load_bearing(args.file)
     rep = bearing_report(bearing)
-    print(json_text(rep) if args.json else bearing_report_text(rep, bearing))
+    try:
+        faults = None if speed is None else fault_frequency_report(bearing, speed, load)
+    except ValueError as err:  # the API's "load", as the command line spells it
+        text = str(err)
+        raise ValueError("--" + text if text.startswith("load ") else text) from None
+    if args.json:
+        if faults is not None:
+            rep["fault_frequencies"] = faults.pop("fault_frequencies")
+            rep["fault_frequency_conditions"] = faults
+        print(json_text(rep))
+    else:
+        print(bearing_report_text(rep, bearing))
+        if faults is not None:
+            print(fault_frequency_text(faults))
     return 0
 
 

@@ -41,7 +41,8 @@ ROOT = Path(__file__).resolve().parents[1]
 README = ROOT / "README.md"
 #: The documentation site's guide pages (mkdocs.yml), run after the README in the order a reader meets their
 #: examples (a page may use a file an earlier one made: the quick start's map, a solve's JSON).
-GUIDE = ("index.md", "solve.md", "boundary-conditions.md", "load-maps.md", "passage.md", "geometry.md", "life.md", "high-speed.md",
+GUIDE = ("index.md", "solve.md", "boundary-conditions.md", "load-maps.md", "passage.md", "defects.md",
+         "geometry.md", "life.md", "high-speed.md",
          "pictures.md", "shafts-and-export.md", "dask.md", "reliability.md", "units.md", "bearings.md",
          "four-point.md", "rollers.md", "assumptions.md", "speed.md", "layout.md")
 DOCUMENTS = (README, *(ROOT / "docs" / name for name in GUIDE))

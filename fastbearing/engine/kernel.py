@@ -317,9 +317,10 @@ def with_smoothing(balls, eps):
 
 
 @njit(inline="always")
-def at_position(balls, table, slices, omega, warm):
-    """The element set at one cage position: its ball and slice tables, shaft speed (rad/s) and warm starts."""
-    return ElementSet(table, balls.exponents, balls.smoothing, slices, balls.speed_table, omega, warm,
+def at_position(balls, table, slices, omega, warm, speed_table):
+    """The element set at one cage position: its ball and slice tables, shaft speed (rad/s), warm starts and
+    high-speed table (the bearing's, or one with a position's local defects)."""
+    return ElementSet(table, balls.exponents, balls.smoothing, slices, speed_table, omega, warm,
                       balls.four_point)
 
 

@@ -56,7 +56,7 @@ def _at_speed(balls, speeds, i, warm, fresh):
     def spinning(balls, speeds, i, warm, fresh):
         if fresh:
             forget_warm(warm)
-        return at_position(balls, balls.balls, balls.slices, speeds[i], warm)
+        return at_position(balls, balls.balls, balls.slices, speeds[i], warm, balls.speed_table)
     return spinning
 
 
@@ -472,25 +472,28 @@ def map_runs(runs, inputs, given_load, segments, results, balls, speeds, ball_ro
                     L10r_row[i, r] = np.nan
 
 
-def slices_at(slice_tables, p):
-    """The slice table at cage position p, or None when ``slice_tables`` is None (no roller rows)."""
+def slices_at(slice_tables, p, default=None):
+    """The table at cage position p of a stack, or ``default`` when the stack is None (no roller rows; no
+    per-position speed tables)."""
 
 
 @overload(slices_at)
-def _slices_at(slice_tables, p):
+def _slices_at(slice_tables, p, default=None):
     if isinstance(slice_tables, types.NoneType):
-        return lambda slice_tables, p: None
-    return lambda slice_tables, p: slice_tables[p]
+        return lambda slice_tables, p, default=None: default
+    return lambda slice_tables, p, default=None: slice_tables[p]
 
 
 @njit(parallel=True, cache=CACHE, error_model=ERROR_MODEL, nogil=True)
-def passage_sweep(inputs, given_load, tables, slice_tables, balls, q, f, K, status, iterations, residual,
-                  max_load, n_loaded, min_angle, max_angle, ball_row, settings, stop):
+def passage_sweep(inputs, given_load, tables, slice_tables, speed_tables, balls, q, f, K, status, iterations, residual,
+                  max_load, n_loaded, min_angle, max_angle, element_loads, ball_row, settings, stop):
     """Ball-passage tables, in place: every operating point at every cage position.
 
     ``tables`` (P, N_BALL_COLUMNS, n_balls) and ``slice_tables`` (P, N_SLICE_COLUMNS, n_slices; None without
     roller rows) hold the ball and roller-slice tables at each of P cage angles, ``balls`` the bearing's
-    element set at cage angle 0 (its exponents, speed parts and shaft speed); outputs are (N, P, ...). Along
+    element set at cage angle 0 (its exponents, speed parts and shaft speed), ``speed_tables`` (P, ...) its
+    high-speed tables per position (local defects) or None; outputs are (N, P, ...), ``element_loads`` (N, P,
+    n_elements) each element's load where it has rows (else (0, 0, 0): not stored). Along
     the positions of one point each solve starts from the previous
     position's converged q. ``stop[0] != 0`` ends the sweep early, as in map_sweep.
     """
@@ -515,7 +518,11 @@ def passage_sweep(inputs, given_load, tables, slice_tables, balls, q, f, K, stat
                         q[i, p, d] = q[i, p - 1, d]
                 status[i, p], iterations[i, p], residual[i, p] = operating_point(
                     given_load, inputs[i], warm, q[i, p], f[i, p], K[i, p],
-                    at_position(balls, tables[p], slices_at(slice_tables, p), balls.omega, spin), settings,
+                    at_position(balls, tables[p], slices_at(slice_tables, p), balls.omega, spin,
+                                slices_at(speed_tables, p, balls.speed_table)), settings,
                     work, ball_load, contact_angle)
                 row_summary(ball_load, contact_angle, ball_row, max_load[i, p], n_loaded[i, p], min_angle[i, p],
                             max_angle[i, p])
+                if element_loads.shape[0] > 0:
+                    for e in range(n_elements):
+                        element_loads[i, p, e] = ball_load[e]

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import csv
 import hashlib
+import json
 import math
 from dataclasses import dataclass
 from functools import partial, reduce
@@ -31,9 +32,13 @@ from ..model.bearing_file import read_job_config
 from ..dofs import AXES, K_ENTRIES, K_UNITS, UNITS
 from ..files import publish
 from .grid import CaseSet, fixed_mask, input_axes
+from ..analysis.faults import fault_frequencies, fault_orders
+from ..model.bearing import without_mirror_half
+from ..model.defects import (Kinematics, element_depths, parse_defects, table_azimuths, with_ball_defects,
+                             with_slice_defects, with_speed_defects)
 from ..engine.sweep import passage_sweep
 
-_PASSAGE_KEYS = {"fixed", "given", "points", "positions", "harmonics", "speed", "shaft_speed", "ball_diameter",
+_PASSAGE_KEYS = {"defects", "revolutions", "element_loads", "fixed", "given", "points", "positions", "harmonics", "speed", "shaft_speed", "ball_diameter",
                  "pitch_diameter", "rotating", "method", "rtol", "max_iter", "chunk"}
 #: Most cage positions per period (a sanity bound: 64 resolve the ball-pass harmonics well).
 MAX_POSITIONS = 100_000
@@ -73,6 +78,22 @@ class PassageConfig:
     fingerprint: str
     model_speed: float = 0.0  # rpm: above 0 the high-speed balls (fastbearing.engine.high_speed)
     fixed: int = 0  # degrees of freedom given as displacements (boundary.Fixed.mask)
+    #: Over shaft revolutions (``revolutions`` of them, ``positions`` per revolution) instead of one ball-pass
+    #: period: with local defects (model/defects.py) the table repeats only after many revolutions.
+    revolutions: int | None = None
+    defects: tuple = ()
+    kinematics: object = None  # defects.Kinematics where the table runs over revolutions
+    element_loads: bool = False  # store each element's load at every position
+
+    @property
+    def n_positions(self) -> int:
+        """The table's positions: ``positions`` over one period, or per revolution times ``revolutions``."""
+        return self.positions * (self.revolutions or 1)
+
+    @property
+    def shaft_angles(self) -> np.ndarray:
+        """The shaft's rotation at each position from position 0, rad (over revolutions only)."""
+        return np.arange(self.n_positions) * 2.0 * math.pi / self.positions
 
     @property
     def period_order(self) -> int:
@@ -86,7 +107,10 @@ class PassageConfig:
 
     @property
     def cage_angles(self) -> np.ndarray:
-        """Cage angle of each position, rad; position 0 is the bearing definition's own layout."""
+        """Cage angle of each position, rad; position 0 is the bearing definition's own layout. Over
+        revolutions the cage turns at the FTF order of the shaft (analysis/faults.py)."""
+        if self.revolutions:
+            return self.shaft_angles * self.kinematics.cage_order
         return np.arange(self.positions) * self.period / self.positions
 
 
@@ -152,9 +176,41 @@ def read_config(config) -> PassageConfig:
         g = bearing.geometry
         speed = CageSpeed(model_speed, g.ball_diameter, g.pitch_diameter,
                           math.radians(bearing.rows[0].contact_angle), g.rotating)
+    revolutions, defects, kinematics = _revolutions(spec, bearing, positions)
+    element_loads = validate.boolean(spec.get("element_loads", False), "passage.element_loads")
     digest = hashlib.sha256(text.encode()).hexdigest()
     return PassageConfig(bearing, cases, positions, harmonics, speed, method, spec.get("rtol"),
-                         spec.get("max_iter"), chunk, text, source, digest, model_speed, fixed)
+                         spec.get("max_iter"), chunk, text, source, digest, model_speed, fixed, revolutions,
+                         defects, kinematics, element_loads)
+
+
+def _revolutions(spec: dict, bearing: Bearing, positions: int):
+    """(revolutions, defects, kinematics) of a table over shaft revolutions: ``revolutions`` (default 1 with
+    defects) and ``[[passage.defects]]``; the kinematics from [bearing.geometry] or the passage's
+    ball_diameter, pitch_diameter and rotating. (None, (), None) for a table over one ball-pass period."""
+    if "defects" not in spec and "revolutions" not in spec:
+        return None, (), None
+    revolutions = validate.integer(spec.get("revolutions", 1), "passage.revolutions", low=1,
+                                   high=MAX_POSITIONS // positions)
+    defects = parse_defects(spec["defects"], bearing) if "defects" in spec else ()
+    g = bearing.geometry
+    element_diameter = getattr(g, "ball_diameter", None) or getattr(g, "roller_diameter", None)
+    if element_diameter is not None:  # a ball's or a roller's (its mean) diameter
+        D, dm, rotating = element_diameter, g.pitch_diameter, getattr(g, "rotating", "inner")
+    elif "ball_diameter" in spec and "pitch_diameter" in spec:
+        D = validate.number(spec["ball_diameter"], "passage.ball_diameter", low=0, low_open=True, units="mm")
+        dm = validate.number(spec["pitch_diameter"], "passage.pitch_diameter", low=D, low_open=True, units="mm")
+        rotating = validate.choice(spec.get("rotating", "inner"), "passage.rotating", ("inner", "outer"))
+    else:
+        raise ValueError("passage.revolutions and passage.defects need the ball's kinematics: [bearing.geometry] "
+                         "(ball_diameter, pitch_diameter) or passage.ball_diameter and passage.pitch_diameter (mm)")
+    if bearing.roller_rows and any(d.race == "ball" for d in defects):
+        raise ValueError("passage.defects: a defect on an element (race = \"ball\") covers balls; roller rows take "
+                         "race defects (outer, inner)")
+    angle = bearing.rows[0].contact_angle
+    orders = fault_orders(D, dm, 1, angle, rotating)
+    kin = Kinematics(D, dm, math.radians(angle), rotating, orders["FTF"], orders["BSF"])
+    return revolutions, defects, kin
 
 
 def fourier(K: np.ndarray, harmonics: int) -> tuple[np.ndarray, np.ndarray]:
@@ -184,9 +240,12 @@ def variation_summary(K: np.ndarray) -> dict[str, np.ndarray]:
 
 
 def _variables(cfg: PassageConfig) -> list[storage.Variable]:
-    """Per point: the per-position results and the summaries over the period."""
+    """Per point: the per-position results and the summaries over the period (and each element's load at every
+    position where asked: ``element_loads``)."""
     V = storage.Variable
-    return storage.result_variables(cfg.cases.given, inner=("position",)) + [
+    loads = [V("element_load", ("position", "element"), "f8", "N", "each element's load at every position (the "
+               "balls' inner contact, each roller's total), in the bearing's element order")] if cfg.element_loads else []
+    return storage.result_variables(cfg.cases.given, inner=("position",)) + loads + [
         V("K_mean", ("dof", "dof_col"), "f8", K_UNITS, "mean of Kb over one period"),
         V("K_min", ("dof", "dof_col"), "f8", K_UNITS, "minimum of Kb over one period"),
         V("K_max", ("dof", "dof_col"), "f8", K_UNITS, "maximum of Kb over one period"),
@@ -199,16 +258,18 @@ def _variables(cfg: PassageConfig) -> list[storage.Variable]:
 
 
 def compute_block(tables: np.ndarray, slice_tables: np.ndarray | None, balls, ball_row: np.ndarray, given_load: bool,
-                  settings, harmonics: int, inputs: np.ndarray, res: dict, first: int, stop: np.ndarray) -> None:
+                  settings, harmonics: int, speed_tables: np.ndarray | None, inputs: np.ndarray, res: dict,
+                  first: int, stop: np.ndarray) -> None:
     """Fill one block's results ``res``: every point of ``inputs`` at every cage position, then the
     summaries over the period (mean, min, max, variation, Fourier). The work unit of a table, here or on Dask.
     ``balls`` the bearing's element set at cage angle 0 (Bearing.ball_set: quasi-static, or at the table's
-    speed). ``first`` (the block's first point) is unused: every point starts cold. ``stop[0] != 0`` ends
-    early."""
-    passage_sweep(inputs, given_load, tables, slice_tables, balls, res["q"], res["f"],
+    speed), ``speed_tables`` its high-speed tables per position where defects change them (else None).
+    ``first`` (the block's first point) is unused: every point starts cold. ``stop[0] != 0`` ends early."""
+    element_loads = res["element_load"] if "element_load" in res else np.empty((0, 0, 0))
+    passage_sweep(inputs, given_load, tables, slice_tables, speed_tables, balls, res["q"], res["f"],
                   res["K"], res["status"],
                   res["iterations"], res["residual"], res["max_ball_load"], res["loaded_balls"],
-                  res["min_contact_angle"], res["max_contact_angle"], ball_row, settings, stop)
+                  res["min_contact_angle"], res["max_contact_angle"], element_loads, ball_row, settings, stop)
     if stop[0] != 0:
         return  # incomplete: the runner discards the block
     for name, values in variation_summary(res["K"]).items():
@@ -216,43 +277,101 @@ def compute_block(tables: np.ndarray, slice_tables: np.ndarray | None, balls, ba
     res["K_amplitude"][...], res["K_phase"][...] = fourier(res["K"], harmonics)
 
 
+def position_tables(cfg: PassageConfig, spinning: bool):
+    """The kernel's tables at every position: ball tables (P, N_BALL_COLUMNS, n_balls), slice tables or None
+    (no roller rows: no roller code compiled), and at speed with defects the high-speed tables per position
+    (else None: the bearing's one), each element's defect depth folded in (model/defects.py)."""
+    b = cfg.bearing
+    tables = [b.ball_table(a) for a in cfg.cage_angles]
+    slices = [b.slice_table(a) for a in cfg.cage_angles] if b.roller_rows else None
+    speed = None
+    if cfg.defects:
+        speed = [] if spinning else None
+        for p, shaft in enumerate(cfg.shaft_angles):
+            psi = table_azimuths(tables[p], slices[p] if slices else None, b.n_elements)
+            inner, outer = element_depths(cfg.defects, cfg.kinematics, psi, shaft)
+            n = b.n_balls
+            if spinning:
+                speed.append(with_speed_defects(b.speed_table, inner[:n], outer[:n]))
+                if np.any(inner[:n]) or np.any(outer[:n]):
+                    tables[p] = without_mirror_half(tables[p])
+            else:
+                tables[p] = with_ball_defects(tables[p], inner[:n] + outer[:n])
+            if slices:
+                slices[p] = with_slice_defects(slices[p], inner + outer, n)
+    stack = np.ascontiguousarray
+    return (stack(np.stack(tables)), stack(np.stack(slices)) if slices else None,
+            stack(np.stack(speed)) if speed else None)
+
+
 def job(cfg: PassageConfig) -> jobs.Job:
     """The ball-passage table as a job for the runner."""
     C = storage.Coordinate
-    H = min(cfg.harmonics, cfg.positions // 2)
-    own = (C("position", np.arange(cfg.positions), "1", "cage position within one period"),
-           C("harmonic", np.arange(H + 1), "1", "harmonic order of the ball-pass frequency"))
-    aux = [(C("cage_angle", cfg.cage_angles, "rad", "cage rotation from the bearing definition's first-ball azimuth"),
-            "position")]
+    P = cfg.n_positions
+    H = min(cfg.harmonics, P // 2)
+    if cfg.revolutions:  # over shaft revolutions: harmonic h is the order h / revolutions of the shaft speed
+        own = (C("position", np.arange(P), "1", f"position over {cfg.revolutions} shaft revolution(s), "
+                 f"{cfg.positions} per revolution"),
+               C("harmonic", np.arange(H + 1), "1", "harmonic of the table's period (revolutions shaft turns)"))
+        aux = [(C("cage_angle", cfg.cage_angles, "rad", "cage rotation from the bearing definition's first-ball "
+                  "azimuth"), "position"),
+               (C("shaft_angle", cfg.shaft_angles, "rad", "shaft rotation from position 0"), "position"),
+               (C("order", np.arange(H + 1) / cfg.revolutions, "1", "order of the shaft speed of each harmonic"),
+                "harmonic")]
+    else:
+        own = (C("position", np.arange(P), "1", "cage position within one period"),
+               C("harmonic", np.arange(H + 1), "1", "harmonic order of the ball-pass frequency"))
+        aux = [(C("cage_angle", cfg.cage_angles, "rad", "cage rotation from the bearing definition's first-ball "
+                  "azimuth"), "position")]
+    if cfg.element_loads:
+        own += (C("element", np.arange(cfg.bearing.n_elements), "1", "element (ball or roller) number in the "
+                  "bearing's element order"),)
     attrs = {"period_rad": cfg.period, "period_order": cfg.period_order, "positions": cfg.positions,
              "n_points": cfg.cases.n_cases, "speed_rpm": cfg.model_speed}
     if cfg.fixed:
         attrs.update(fixed_dofs=", ".join(boundary.names(cfg.fixed)),
                      fixed_note="the degrees of freedom in fixed_dofs are given as displacements (their axes, mm "
                                 "or rad); f holds the reactions there (N, N*mm)")
+    if cfg.revolutions:
+        k = cfg.kinematics
+        row0 = cfg.bearing.rows[0]
+        attrs.update(revolutions=cfg.revolutions, positions_per_revolution=cfg.positions, rotating_ring=k.rotating,
+                     first_element_angle_deg=getattr(row0, "first_ball_angle", getattr(row0, "first_element_angle", 0.0)),
+                     defects=json.dumps([vars(d) for d in cfg.defects]),
+                     defects_units="angle deg (at position 0, from +x; a ball's from its outer contact), width mm, "
+                                   "depth mm")
+        n_balls = cfg.bearing.rows[0].n_elements
+        for name, order in fault_orders(k.ball_diameter, k.pitch_diameter, n_balls, math.degrees(k.contact_angle),
+                                        k.rotating).items():
+            attrs[f"fault_frequency_{name}_order"] = order
     if cfg.speed is not None:
         fc = cfg.speed.cage_frequency
         aux.append((C("time", cfg.cage_angles / (2 * math.pi * fc), "s", "time from position 0"), "position"))
-        aux.append((C("frequency", np.arange(H + 1) * cfg.period_order * fc, "Hz", "frequency of each harmonic"),
-                    "harmonic"))
+        if cfg.revolutions:
+            fr = cfg.speed.shaft_speed / 60.0
+            aux.append((C("frequency", np.arange(H + 1) / cfg.revolutions * fr, "Hz", "frequency of each harmonic"),
+                        "harmonic"))
+            for name in ("FTF", "BPFO", "BPFI", "BSF", "ball_defect"):
+                attrs[f"fault_frequency_{name}_hz"] = attrs[f"fault_frequency_{name}_order"] * fr
+        else:
+            aux.append((C("frequency", np.arange(H + 1) * cfg.period_order * fc, "Hz", "frequency of each harmonic"),
+                        "harmonic"))
         attrs.update(shaft_speed_rpm=cfg.speed.shaft_speed, rotating_ring=cfg.speed.rotating,
                      ball_diameter_mm=cfg.speed.ball_diameter, pitch_diameter_mm=cfg.speed.pitch_diameter,
                      cage_frequency_hz=fc, ball_pass_frequency_hz=cfg.period_order * fc)
-    tables = np.ascontiguousarray(np.stack([cfg.bearing.ball_table(a) for a in cfg.cage_angles]))
-    settings = solver_settings(cfg.bearing, cfg.method, cfg.rtol, cfg.max_iter, cfg.fixed)
-    # None without roller rows: the sweep then compiles no roller code
-    slice_tables = (np.ascontiguousarray(np.stack([cfg.bearing.slice_table(a) for a in cfg.cage_angles]))
-                    if cfg.bearing.roller_rows else None)
     spinning = cfg.model_speed > 0
+    tables, slice_tables, speed_tables = position_tables(cfg, spinning)
+    settings = solver_settings(cfg.bearing, cfg.method, cfg.rtol, cfg.max_iter, cfg.fixed)
     compute = partial(compute_block, tables, slice_tables,
                       cfg.bearing.ball_set(speed=cfg.model_speed if spinning else None),
-                      cfg.bearing.element_rows, cfg.cases.given == "load", settings, cfg.harmonics)
+                      cfg.bearing.element_rows, cfg.cases.given == "load", settings, cfg.harmonics, speed_tables)
+    sizes = {"dof": 5, "dof_col": 5, "row": cfg.bearing.n_rows, "position": P, "harmonic": H + 1,
+             "element": cfg.bearing.n_elements}
     return jobs.Job(
         kind="ball-passage table", bearing=cfg.bearing, cases=cfg.cases, variables=tuple(_variables(cfg)),
-        sizes={"dof": 5, "dof_col": 5, "row": cfg.bearing.n_rows, "position": cfg.positions, "harmonic": H + 1},
-        compute=compute, settings=settings, method=cfg.method, chunk=cfg.chunk, text=cfg.text, source=cfg.source,
-        fingerprint=cfg.fingerprint, own_dims=own, aux_coords=tuple(aux), attrs=attrs,
-        solves_per_case=cfg.positions, case_word="point", kernel="engine.sweep.passage_sweep")
+        sizes=sizes, compute=compute, settings=settings, method=cfg.method, chunk=cfg.chunk, text=cfg.text,
+        source=cfg.source, fingerprint=cfg.fingerprint, own_dims=own, aux_coords=tuple(aux), attrs=attrs,
+        solves_per_case=P, case_word="point", kernel="engine.sweep.passage_sweep")
 
 
 def passage(config, output=None, *, threads=None, resume=False, overwrite=False, csv_files=False, progress=None,

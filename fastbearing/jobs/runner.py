@@ -379,8 +379,8 @@ def _status_counts(pf: storage.PartFile) -> dict[int, int]:
 def _summary(job: Job, counts: dict[int, int], wall: float, computed: int, finish: float = 0.0,
              compiling: float = 0.0) -> str:
     """One line: how many (and how many of them this run computed, when it resumed), what share converged and
-    by status, how long (compiling apart, computing, then compressing), and the rate over this run's cases
-    and computing time alone."""
+    by status, how long (computing, then compressing; the time spent compiling on a line of its own before
+    it), and the rate over this run's cases and computing time alone."""
     total = sum(counts.values())
     ok = sum(k for code, k in counts.items() if st.is_converged(code))
     by_status = ", ".join(f"{st.describe(code)} {k}" for code, k in sorted(counts.items(), key=lambda x: -x[1]))
@@ -392,13 +392,14 @@ def _summary(job: Job, counts: dict[int, int], wall: float, computed: int, finis
     compiling = min(compiling, wall) if compiling > 0.5 else 0.0  # below that: loading from the cache
     work = wall - compiling
     rate = computed * job.solves_per_case / work if work > 0 else float("inf")
-    took = f"{wall:.2f} s wall"
-    if compiling:
-        took = f"{compiling:.1f} s compiling + {work:.2f} s computing"
+    took = f"{work:.2f} s wall"
     if job.compression != "none":
-        took = f"{took if compiling else f'{wall:.2f} s computing'} + {finish:.2f} s {job.compression} repack = " \
-               f"{wall + finish:.2f} s wall"
-    return (f"fastbearing: {what}, {100.0 * ok / max(total, 1):.2f} % converged ({by_status}); "
+        took = f"{work:.2f} s computing + {finish:.2f} s {job.compression} repack = {work + finish:.2f} s wall"
+    said = ""
+    if compiling:  # a line of its own, so that the summary reads alike with and without it
+        said = (f"fastbearing: compiling took {compiling:.1f} s (once for this kind of run; later runs load the "
+                "kernels from numba's cache)\n")
+    return (f"{said}fastbearing: {what}, {100.0 * ok / max(total, 1):.2f} % converged ({by_status}); "
             f"{took}, {rate:,.0f} solves/s")
 
 

@@ -1,15 +1,24 @@
 """Text reports of a bearing: its derived model parameters, for `fastbearing bearing FILE` and for Python
-(``fb.bearing_report(bearing)``).
+(``fb.bearing_report(bearing)``), and its fault frequencies at a shaft speed (`fastbearing bearing FILE
+--speed RPM`, :func:`fault_frequency_report`).
 
-Units: lengths mm, angles deg (and rad where said), Hertz constants N/mm^n, moduli N/mm^2, speeds rpm.
+Units: lengths mm, angles deg (and rad where said), Hertz constants N/mm^n, moduli N/mm^2, speeds rpm,
+loads N and N*mm, frequencies Hz (orders: multiples of the shaft frequency).
 """
 
 from __future__ import annotations
 
 import math
 
+from .. import validate
+from ..analysis.faults import NAMES as FAULT_NAMES
+from ..analysis.faults import fault_frequencies
 from ..model.bearing import check_speed_model, speed_limit
 from ..model.geometry import load_centre_spread
+
+#: What each fault frequency is, in words (the text report's second column).
+FAULT_WORDS = {"FTF": "cage (fundamental train)", "BPFO": "ball pass, outer race", "BPFI": "ball pass, inner race",
+               "BSF": "ball spin", "ball_defect": "ball defect (2 BSF)"}
 
 
 def bearing_report(bearing) -> dict:
@@ -133,3 +142,81 @@ def bearing_report_text(rep: dict, bearing) -> str:
     return "\n".join(lines)
 
 
+
+
+def fault_frequency_report(bearing, speed, load=None) -> dict:
+    """The bearing's fault frequencies at shaft speed ``speed`` (rpm > 0), JSON-ready (what `fastbearing bearing
+    FILE --speed RPM` adds to its report).
+
+    The kinematics of rolling without slip (:mod:`fastbearing.analysis.faults`) from the bearing's catalogue
+    geometry: ball (or roller) diameter D and pitch diameter dm in mm, Z elements per row, and the contact
+    angle: the geometry's nominal one (degrees) or, with ``load`` (Fx, Fy, Fz in N, Mx, My in N*mm on the inner
+    ring at the bearing centre), the loaded one at that operating point: the bearing is solved quasi-statically
+    (:func:`fastbearing.solve`) and the angle is the mean loaded contact angle of the loaded balls
+    (:func:`fastbearing.analysis.contacts.ball_contacts`, rad, converted to degrees). The rotating ring is the
+    geometry's ``rotating`` key where it has one, else the inner ring.
+
+    Returns a dict: ``speed_rpm``, ``shaft_frequency_hz`` (f_r = rpm/60), ``rotating`` ("inner" | "outer"),
+    ``element`` ("ball" | "roller"), ``contact_angle_deg``, ``contact_angle_source`` ("nominal" | "loaded"),
+    ``load`` (the 5 numbers, or None), ``loaded_contacts`` (how many ball contacts carry load; 0 without
+    ``load``) and ``fault_frequencies``:
+    {name: {"hz": ..., "order": ...}} for FTF, BPFO, BPFI, BSF and ball_defect (= 2 BSF), order in multiples
+    of f_r.
+
+    Raises ValueError (one line) for a speed that is not finite and > 0 (naming ``speed``), a bearing without
+    catalogue geometry (naming what is missing), a load that is not 5 finite numbers (naming ``load``), does
+    not solve, or leaves every ball unloaded. Roller bearings: D is the mean roller diameter, and a roller
+    row's contact angle does not change with load.
+    """
+    rpm = validate.number(speed, "speed", low=0, low_open=True, units="rpm")
+    g = bearing.geometry
+    if g is None:
+        raise ValueError(f"{bearing.name or 'this bearing'} has no [bearing.geometry] table: fault frequencies need "
+                         "its ball diameter, pitch diameter (mm) and number of balls")
+    if g.element == "ball":
+        D, Z = g.ball_diameter, g.n_balls
+    else:
+        D, Z = g.roller_diameter, g.n_rollers
+    rotating = getattr(g, "rotating", "inner")
+    element = "ball" if g.element == "ball" else "roller"
+    angle, source, loaded, f = float(g.contact_angle), "nominal", 0, None
+    if load is not None:
+        from ..analysis.contacts import ball_contacts
+        from ..api import _as_vector, solve
+
+        f = [float(v) for v in _as_vector(load, "load", "Fx, Fy, Fz in N; Mx, My in N*mm")]
+        result = solve(bearing, f)
+        if not result.converged:
+            raise ValueError(f"load {_load_text(f)}: the bearing has no solution there ({result.status_name})"
+                             + (f": {result.note}" if result.note else ""))
+        c = ball_contacts(bearing, result.q)
+        on = c.load > 0
+        loaded = int(on.sum())
+        if loaded == 0:
+            raise ValueError(f"load {_load_text(f)}: no {element} carries load there, so there is no loaded contact "
+                             "angle (leave the load out for the nominal one)")
+        angle, source = math.degrees(float(abs(c.contact_angle[on]).mean())), "loaded"
+    return {"speed_rpm": rpm, "shaft_frequency_hz": rpm / 60.0, "element": element, "rotating": rotating,
+            "contact_angle_deg": angle, "contact_angle_source": source, "load": f, "loaded_contacts": loaded,
+            "fault_frequencies": fault_frequencies(D, g.pitch_diameter, Z, rpm, angle, rotating)}
+
+
+def _load_text(f, brackets: bool = True) -> str:
+    text = f"Fx, Fy, Fz = {f[0]:g}, {f[1]:g}, {f[2]:g} N; Mx, My = {f[3]:g}, {f[4]:g} N*mm"
+    return f"({text})" if brackets else text
+
+
+def fault_frequency_text(ff: dict) -> str:
+    """The report of :func:`fault_frequency_report` as `fastbearing bearing FILE --speed RPM` prints it: one line
+    per frequency, in Hz and as an order of the shaft frequency f_r."""
+    if ff["contact_angle_source"] == "loaded":
+        angle = (f"loaded contact angle {ff['contact_angle_deg']:.4g} deg (mean of {ff['loaded_contacts']} loaded "
+                 f"{ff.get('element', 'ball')} contacts at {_load_text(ff['load'], False)})")
+    else:
+        angle = f"nominal contact angle {ff['contact_angle_deg']:g} deg"
+    lines = [f"fault frequencies at {ff['speed_rpm']:g} rpm (shaft f_r = {ff['shaft_frequency_hz']:.6g} Hz), "
+             f"{ff['rotating']} ring rotating, {angle}:"]
+    for name in FAULT_NAMES:
+        v = ff["fault_frequencies"][name]
+        lines.append(f"  {name:<12s} {FAULT_WORDS[name]:<25s} {v['hz']:10.4f} Hz  {v['order']:8.5f} x f_r")
+    return "\n".join(lines)

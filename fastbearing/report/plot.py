@@ -53,7 +53,7 @@ LOG_VARIABLES = ("L10r", "L10r_row")
 #: user types angles (``base_units`` keeps rad).
 ANGLE_VARIABLES = ("min_contact_angle", "max_contact_angle")
 NORMALISE = ("none", "first", "mean")
-PASSAGE_X = ("angle", "period", "time")
+PASSAGE_X = ("angle", "period", "time", "revolutions")
 #: The paper's Fig. 13/14 entries, the default of passage plots.
 PAPER_ENTRIES = ("kxx", "kzz", "ktyty")
 MARKERS = {"DB": "o", "DF": "s", "DT": "^", "single": "x"}
@@ -634,9 +634,22 @@ def passage_curve(ds, var: str, *, at=None, x: str = "angle", normalise: str = "
         raise ValueError(f"{var} is per row; passage plots take Kb entries, q or f components")
     da, status, where = select(ds, da, ("position",), at, default="first", base_units=base_units)
     values = np.where(st.converged_mask(status.values), da.values, np.nan)
-    values = np.append(values, values[0])
-    angle = np.append(ds["cage_angle"].values, float(ds.attrs["period_rad"]))
-    if x == "angle":  # degrees, as a user types angles (base_units: rad, as stored)
+    over_revolutions = "shaft_angle" in ds  # a table over shaft revolutions (local defects): no closing point
+    if over_revolutions:
+        angle = ds["cage_angle"].values
+        turns = ds["shaft_angle"].values / (2 * math.pi)
+    else:
+        values = np.append(values, values[0])
+        angle = np.append(ds["cage_angle"].values, float(ds.attrs["period_rad"]))
+    if x == "revolutions" or (x == "period" and over_revolutions):
+        if not over_revolutions:
+            raise ValueError("x = revolutions needs a table over shaft revolutions ([passage] revolutions)")
+        xv, xunits, xtext = turns, "1", "shaft revolutions"
+    elif x == "time" and over_revolutions:
+        if "time" not in ds:
+            raise ValueError("this table has no time axis: give speed (or shaft_speed) in [passage]")
+        xv, xunits, xtext = ds["time"].values, "s", "time"
+    elif x == "angle":  # degrees, as a user types angles (base_units: rad, as stored)
         xv, xunits = (angle, "rad") if base_units else (np.degrees(angle), "deg")
         xtext = r"cage angle $\psi_c$"
     elif x == "period":
@@ -657,6 +670,56 @@ def passage_curve(ds, var: str, *, at=None, x: str = "angle", normalise: str = "
         values, fy = values / ref, 1.0
         ylabel = axis_label(symbol(var) + (r" / $k(\psi_c = 0)$" if normalise == "first" else " / mean"), "1")
     return xv * fx, values * fy, axis_label(xtext, ux), ylabel, where
+
+
+def defect_passes(ds) -> list[tuple[str, np.ndarray]]:
+    """When each local defect of a table over shaft revolutions meets an element, in shaft revolutions from
+    position 0: (label, revolutions) per defect, from the file's attributes (the defects, the fault orders,
+    the first element's azimuth). A race defect meets the next element every 1/BPFO (outer race) or 1/BPFI
+    (inner race) revolutions with the inner ring turning, a ball's defect a race every 1/(2 BSF)."""
+    if "defects" not in ds.attrs or "shaft_angle" not in ds:
+        return []
+    import json
+
+    span = float(ds["shaft_angle"].values[-1]) / (2 * math.pi)
+    order = {k: float(ds.attrs[f"fault_frequency_{k}_order"]) for k in ("FTF", "BPFO", "BPFI", "BSF")}
+    z = order["BPFO"] + order["BPFI"]  # the element count: BPFO + BPFI = Z
+    pitch = 2 * math.pi / round(z)
+    first = math.radians(float(ds.attrs.get("first_element_angle_deg", 0.0)))
+    inner_turns = ds.attrs.get("rotating_ring", "inner") == "inner"
+    out = []
+    for d in json.loads(ds.attrs["defects"]):
+        phi = math.radians(d["angle"])
+        if d["race"] == "ball":
+            every, start = 1.0 / (2 * order["BSF"]), (phi % (2 * math.pi)) / (2 * math.pi * order["BSF"])
+            start %= every
+            label = f"ball {d['element']} defect meets a race"
+        else:
+            # the angle between the defect and the balls closes at the pass order's rate (per element pitch)
+            rate = order["BPFO"] if d["race"] == "outer" else order["BPFI"]
+            moves_with_cage = (d["race"] == "outer") == inner_turns  # the defect's race stands still
+            gap = ((phi - first) if moves_with_cage else (first - phi)) % pitch
+            every, start = 1.0 / rate, gap / pitch / rate
+            label = f"{d['race']}-race defect passed"
+        out.append((label, np.arange(start, span + 1e-12, every)))
+    return out
+
+
+def _mark_defect_passes(ds, axes, x: str, base_units: bool) -> None:
+    """Dotted vertical lines where a defect meets an element (x in shaft revolutions or in s)."""
+    passes = defect_passes(ds)
+    if not passes or x not in ("revolutions", "period", "time"):
+        return
+    per_turn = 1.0
+    if x == "time":
+        per_turn = 60.0 / float(ds.attrs["shaft_speed_rpm"])
+        per_turn *= scale_units(np.array([per_turn]), "s", base_units)[0]
+    for k, (label, turns) in enumerate(passes):
+        for ax in axes:
+            for j, t in enumerate(turns):
+                ax.axvline(t * per_turn, color=f"C{k + 3}", linestyle=":", linewidth=1.0,
+                           label=label if (ax is axes[0] and j == 0) else None)
+    axes[0].legend(loc="upper right", fontsize="small")
 
 
 def plot_passage(source, var=PAPER_ENTRIES, *, at=None, x: str = "angle", normalise: str = "none", out=None,
@@ -693,8 +756,14 @@ def plot_passage(source, var=PAPER_ENTRIES, *, at=None, x: str = "angle", normal
             if shared and len(names) > 1:
                 axes[0].legend()
             axes[-1].set_xlabel(curves[0][2])
-            axes[0].set_title(f"{_bearing_title(ds)}, one ball-pass period (Z = {ds.attrs['period_order']}), "
-                              f"{positions} cage positions" + _where_text(ds, ("position",), curves[0][4]))
+            if "shaft_angle" in ds:
+                revolutions = int(ds.attrs["revolutions"])
+                axes[0].set_title(f"{_bearing_title(ds)}, {revolutions} shaft revolution(s), {positions} positions"
+                                  + _where_text(ds, ("position",), curves[0][4]))
+                _mark_defect_passes(ds, axes, x, base_units)
+            else:
+                axes[0].set_title(f"{_bearing_title(ds)}, one ball-pass period (Z = {ds.attrs['period_order']}), "
+                                  f"{positions} cage positions" + _where_text(ds, ("position",), curves[0][4]))
             fit_ylabels(fig, axes)
             return _finish(fig, out, overwrite)
 
@@ -706,7 +775,11 @@ def plot_spectrum(source, var=PAPER_ENTRIES, *, at=None, normalise: str = "mean"
     ``normalise="mean"`` shows A_h in % of the mean A_0 (all entries in one
     panel); ``"none"`` shows A_h in the entry's units (one panel each). The
     horizontal axis is the frequency (Hz) when the table has a shaft speed,
-    else the harmonic order of the ball-pass frequency.
+    else the order of the shaft speed for a table over shaft revolutions,
+    else the harmonic order of the ball-pass frequency. Fault frequencies the
+    file's attributes hold (``fault_frequency_<name>_hz`` / ``_order``, see
+    :func:`fault_marks`) are marked as labelled vertical lines in the axis's
+    units; a file without them plots without marks.
     """
     if normalise not in ("none", "mean"):
         raise ValueError(f"normalise must be 'none' or 'mean' for a spectrum, got {normalise!r}")
@@ -723,8 +796,11 @@ def plot_spectrum(source, var=PAPER_ENTRIES, *, at=None, normalise: str = "mean"
         if H < 1:
             raise ValueError("this table keeps no harmonics above the mean (harmonics = 0)")
         has_f = "frequency" in ds
+        # a table over shaft revolutions without a speed: each harmonic's order of the shaft speed
+        has_order = not has_f and "order" in ds
+        axis = "hz" if has_f else "order" if has_order else "harmonic"
         h = np.arange(1, H + 1)
-        xv = ds["frequency"].values[1:] if has_f else h.astype(float)
+        xv = ds["frequency"].values[1:] if has_f else ds["order"].values[1:] if has_order else h.astype(float)
         with style():
             fig = new_figure(size, dpi)
             shared = normalise == "mean"
@@ -750,13 +826,90 @@ def plot_spectrum(source, var=PAPER_ENTRIES, *, at=None, normalise: str = "mean"
                 if log:
                     ax.set_yscale("log")
                 ax.set_ylabel(ylabel)
+            beyond = _mark_fault_frequencies(axes, fault_marks(ds, axis), float(xv[-1]) + step)
             if shared:
                 axes[0].legend()
-            axes[-1].set_xlabel(axis_label("frequency", "Hz") if has_f else
-                                axis_label("harmonic order of the ball-pass frequency", "1"))
-            axes[0].set_title(f"{_bearing_title(ds)}: harmonics of Kb over the ball passage"
+            axes[-1].set_xlabel((axis_label("frequency", "Hz") if has_f else
+                                 axis_label("order of the shaft speed", "1") if has_order else
+                                 axis_label("harmonic order of the ball-pass frequency", "1"))
+                                + (f"; beyond the axis: {', '.join(beyond)}" if beyond else ""))
+            revolutions = _attr_number(ds.attrs, "revolutions")
+            span = (f"{revolutions:g} shaft revolution{'s' if revolutions != 1 else ''}" if revolutions
+                    else "the ball passage")
+            axes[0].set_title(f"{_bearing_title(ds)}: harmonics of Kb over {span}"
                               + _where_text(ds, ("harmonic",), where))
             return _finish(fig, out, overwrite)
+
+
+#: The fault frequencies a passage file's attributes may hold (fault_frequency_<name>_hz and _order) and their
+#: labels on the spectrum.
+FAULT_LABELS = {"FTF": "FTF", "BPFO": "BPFO", "BPFI": "BPFI", "BSF": "BSF", "ball_defect": "ball defect"}
+
+
+def _attr_number(attrs, key):
+    """A finite float attribute, or None (absent, not a number, or not finite)."""
+    try:
+        value = float(np.asarray(attrs[key]).reshape(-1)[0])
+    except (KeyError, TypeError, ValueError, IndexError):
+        return None
+    return value if math.isfinite(value) else None
+
+
+def fault_marks(ds, axis: str) -> list[tuple[str, float]]:
+    """(label, x) of each fault frequency (FTF, BPFO, BPFI, BSF, ball defect) a ball-passage file's
+    attributes hold, in the spectrum's horizontal units ``axis``; [] where it holds none.
+
+    ``"hz"`` (the table has a shaft speed): x in Hz, from ``fault_frequency_<name>_hz``, else from
+    ``fault_frequency_<name>_order`` times the file's ``shaft_speed_rpm`` / 60. ``"order"`` (a table over
+    shaft revolutions without a speed): x = the stored order, in multiples of the shaft speed.
+    ``"harmonic"`` (a table over one ball-pass period without a speed): x in harmonics of the ball-pass
+    frequency: the order divided by the ball-pass order ``period_order`` x FTF order (the cage turns at
+    FTF, one table period per ball pass).
+    """
+    attrs = ds.attrs
+    if axis == "hz":  # orders -> Hz where a file holds orders only
+        rpm = _attr_number(attrs, "shaft_speed_rpm")
+        scale = None if rpm is None or rpm <= 0 else rpm / 60.0
+    elif axis == "order":
+        scale = 1.0
+    else:  # orders -> harmonics of the ball-pass frequency
+        ftf, period = _attr_number(attrs, "fault_frequency_FTF_order"), _attr_number(attrs, "period_order")
+        scale = None if ftf is None or period is None or ftf <= 0 or period <= 0 else 1.0 / (period * ftf)
+    out = []
+    for name, label in FAULT_LABELS.items():
+        x = _attr_number(attrs, f"fault_frequency_{name}_hz") if axis == "hz" else None
+        if x is None:
+            order = _attr_number(attrs, f"fault_frequency_{name}_order")
+            x = None if order is None or scale is None else order * scale
+        if x is not None and x > 0:
+            out.append((label, x))
+    return out
+
+
+def _mark_fault_frequencies(axes, marks, upper: float) -> list[str]:
+    """Dashed vertical lines at the fault frequencies ``marks`` ((label, x), :func:`fault_marks`) up to
+    ``upper`` on every panel, labelled at the top of the top panel (left of the line; right of it where the
+    previous label would touch); the labels of those beyond ``upper``."""
+    shown = sorted((m for m in marks if m[1] <= upper), key=lambda m: m[1])
+    beyond = [label for label, x in marks if x > upper]
+    if not shown:
+        return beyond
+    for _, x in shown:
+        for ax in axes:
+            ax.axvline(x, color="0.35", linestyle="--", linewidth=0.9, zorder=1.5)
+    top = axes[0]
+    low, high = top.get_xlim()
+    top.set_xlim(max(low, 0.0), high)  # a mark near 0 (FTF) asks for no negative frequencies
+    low, high = top.get_xlim()
+    last, side = -math.inf, "right"
+    for label, x in shown:
+        # labels closer than 3 % of the axis take both sides of their lines
+        side = "left" if side == "right" and (x - last) / (high - low) < 0.03 else "right"
+        top.text(x, 0.98, label, transform=top.get_xaxis_transform(), rotation=90, ha=side, va="top",
+                 fontsize="small", color="0.2", zorder=3,
+                 bbox={"facecolor": "white", "edgecolor": "none", "alpha": 0.75, "pad": 1.5})
+        last = x
+    return beyond
 
 
 # -- load zone ------------------------------------------------------------------------
