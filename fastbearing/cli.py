@@ -344,6 +344,8 @@ def _add_plot_parsers(sub) -> None:
     sp.add_argument("--normalise", choices=["none", "mean"], default="mean",
                     help="amplitudes in %% of the mean (default) or in the entry's units")
     sp.add_argument("--linear", action="store_true", help="linear instead of logarithmic amplitude axis")
+    sp.add_argument("--orders", action="store_true", help="a table over shaft revolutions: the horizontal axis in "
+                    "orders of the shaft speed (default: Hz where the table has a speed)")
     z = kinds.add_parser("loadzone", help="polar plot of the ball loads of one operating point, per row")
     common(z, file=False)
     which = z.add_mutually_exclusive_group(required=True)
@@ -394,7 +396,8 @@ def _plot(args) -> int:
     elif args.picture == "passage":
         plot.plot_passage(args.file, _names(args.var), x=args.x, normalise=args.normalise, **opts)
     else:
-        plot.plot_spectrum(args.file, _names(args.var), normalise=args.normalise, log=not args.linear, **opts)
+        plot.plot_spectrum(args.file, _names(args.var), normalise=args.normalise, log=not args.linear,
+                           orders=args.orders, **opts)
     return 0
 
 

@@ -113,3 +113,24 @@ def test_bad_defects_are_refused_naming_the_field(tmp_path, defect, message):
     with pytest.raises(ValueError, match=message):
         _table(tmp_path, [defect], "bad")
     assert not (tmp_path / "bad.h5").exists()
+
+
+def test_the_pictures_mark_the_defect_passes_and_the_spectrum_reads_in_orders(tmp_path):
+    """The passage picture over revolutions marks each pass of an outer-race spall, every 1/BPFO revolutions
+    (the first where a ball first reaches it); the spectrum takes orders of the shaft speed with a speed too."""
+    pytest.importorskip("matplotlib")
+    from fastbearing.report import plot
+
+    spec = {"given": "load", "Fx": 2000.0, "positions": 64, "revolutions": 2, "speed": 1800.0, "harmonics": 40,
+            "defects": [{"race": "outer", "angle": 10.0, "width": 1.0, "depth": 0.05}]}
+    out = fb.passage({"bearing": BALL, "passage": spec}, tmp_path / "m.h5", progress=False)
+    ds = fb.open_dataset(out)
+    (label, turns), = plot.defect_passes(ds)
+    bpfo = float(ds.attrs["fault_frequency_BPFO_order"])
+    assert label == "outer-race defect passed" and np.allclose(np.diff(turns), 1 / bpfo)
+    z = 7  # the 6305's balls, the first at 0 deg: it reaches the spall at 10 deg after 10 deg of cage travel
+    assert turns[0] == pytest.approx(math.radians(10.0) / (2 * math.pi / z) / bpfo)
+    fig = plot.plot_passage(out, "kxx", x="revolutions")
+    assert any(t.get_text() == label for t in fig.axes[0].get_legend().get_texts())
+    fig = plot.plot_spectrum(out, "kxx", normalise="none", orders=True)
+    assert "order of the shaft speed" in fig.axes[-1].get_xlabel()

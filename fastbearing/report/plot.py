@@ -768,7 +768,8 @@ def plot_passage(source, var=PAPER_ENTRIES, *, at=None, x: str = "angle", normal
             return _finish(fig, out, overwrite)
 
 
-def plot_spectrum(source, var=PAPER_ENTRIES, *, at=None, normalise: str = "mean", log: bool = True, out=None,
+def plot_spectrum(source, var=PAPER_ENTRIES, *, at=None, normalise: str = "mean", log: bool = True, orders=False,
+                  out=None,
                   overwrite: bool = False, size=None, dpi: int = DEFAULT_DPI, base_units: bool = False):
     """Harmonic spectrum of Kb entries of a ball-passage table: amplitude A_h of harmonics h >= 1.
 
@@ -795,7 +796,11 @@ def plot_spectrum(source, var=PAPER_ENTRIES, *, at=None, normalise: str = "mean"
         H = ds.sizes["harmonic"] - 1
         if H < 1:
             raise ValueError("this table keeps no harmonics above the mean (harmonics = 0)")
-        has_f = "frequency" in ds
+        # ``orders`` (a table over shaft revolutions): in orders of the shaft speed even with a speed
+        if orders and "order" not in ds:
+            raise ValueError("orders needs a table over shaft revolutions ([passage] revolutions); a one-period "
+                             "table's harmonics are orders of the ball-pass frequency")
+        has_f = "frequency" in ds and not orders
         # a table over shaft revolutions without a speed: each harmonic's order of the shaft speed
         has_order = not has_f and "order" in ds
         axis = "hz" if has_f else "order" if has_order else "harmonic"
