@@ -170,3 +170,16 @@ def test_the_command_line_solves_the_qj210_at_speed_and_reports_both_pairs(tmp_p
     assert out["status"] == "converged"
     assert len(out["balls"]) == 2 * QJ210.rows[0].n_balls  # each ball once per contact pair
     assert {b["row"] for b in out["balls"]} == {0, 1}
+
+
+def test_a_four_point_row_is_its_own_mirror_image_on_a_shaft_and_its_pairs_refuse_a_preload():
+    """mirrored = true on a shaft: the pairs keep their order (+a0, -a0) and the bearing is the same (it used
+    to fail: the flipped pairs came out -a0 first); with_rows cannot give the pairs an axial preload."""
+    from fastbearing.analysis.shaft import mirrored
+
+    flipped = mirrored(QJ210)
+    assert [r.contact_direction for r in flipped.rows] == [1, -1]
+    load = [2000.0, 0, 1500.0, 0, 0]
+    assert np.array_equal(fb.solve(flipped, load).q, fb.solve(QJ210, load).q)
+    with pytest.raises(ValueError, match="axial_preload must be 0 for a four-point row"):
+        QJ210.with_rows(axial_preload=0.01)

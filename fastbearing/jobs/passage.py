@@ -196,7 +196,9 @@ def _revolutions(spec: dict, bearing: Bearing, positions: int):
     g = bearing.geometry
     element_diameter = getattr(g, "ball_diameter", None) or getattr(g, "roller_diameter", None)
     if element_diameter is not None:  # a ball's or a roller's (its mean) diameter
-        D, dm, rotating = element_diameter, g.pitch_diameter, getattr(g, "rotating", "inner")
+        D, dm = element_diameter, g.pitch_diameter
+        rotating = validate.choice(spec.get("rotating", getattr(g, "rotating", "inner")), "passage.rotating",
+                                   ("inner", "outer"))
     elif "ball_diameter" in spec and "pitch_diameter" in spec:
         D = validate.number(spec["ball_diameter"], "passage.ball_diameter", low=0, low_open=True, units="mm")
         dm = validate.number(spec["pitch_diameter"], "passage.pitch_diameter", low=D, low_open=True, units="mm")
@@ -204,6 +206,9 @@ def _revolutions(spec: dict, bearing: Bearing, positions: int):
     else:
         raise ValueError("passage.revolutions and passage.defects need the ball's kinematics: [bearing.geometry] "
                          "(ball_diameter, pitch_diameter) or passage.ball_diameter and passage.pitch_diameter (mm)")
+    if defects and any(getattr(r, "element", "") == "four_point_ball" for r in bearing.rows):
+        raise ValueError("passage.defects: local defects on four-point contact rows are not modelled yet (each ball "
+                         "meets a race at two points, on two contact pairs); use them on ball or roller rows")
     if bearing.roller_rows and any(d.race == "ball" for d in defects):
         raise ValueError("passage.defects: a defect on an element (race = \"ball\") covers balls; roller rows take "
                          "race defects (outer, inner)")

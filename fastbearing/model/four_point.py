@@ -61,6 +61,12 @@ class ContactPair(Row):
     element = ELEMENT
     element_word = "balls (one contact pair)"
 
+    def __post_init__(self):
+        if self.axial_preload != 0:  # with_rows or a hand-built pair: the row's rule holds for its pairs
+            raise validate.FieldError("axial_preload", f"must be 0 for a four-point row (element = '{ELEMENT}'): "
+                                      "preload it with a negative radial_clearance", self.axial_preload)
+        super().__post_init__()
+
     def describe_line(self) -> str:
         return f"four-point balls, pair {'+' if self.contact_direction > 0 else '-'}a0: {super().describe_line()}"
 
