@@ -296,7 +296,7 @@ def _compute(job: Job, part: Path, out: Path, blocks, threads, progress, client,
     wall = time.perf_counter() - started
     finishing = time.perf_counter()
     try:
-        storage.finish(part, out, job.compression, blocks, {"wall_time_s": wall,
+        storage.finish(part, out, job.compression, blocks, {"wall_time_s": wall, "compile_time_s": watch.seconds,
                        "status_counts": json.dumps({st.describe(c): k for c, k in counts.items()})},
                        [v.name for v in job.variables])
     except (OSError, RuntimeError) as err:
@@ -384,7 +384,7 @@ def _summary(job: Job, counts: dict[int, int], wall: float, computed: int, finis
     total = sum(counts.values())
     ok = sum(k for code, k in counts.items() if st.is_converged(code))
     by_status = ", ".join(f"{st.describe(code)} {k}" for code, k in sorted(counts.items(), key=lambda x: -x[1]))
-    what = f"{job.cases.n_cases} {job.case_word}s"
+    what = f"{job.cases.n_cases} {job.case_word}{'' if job.cases.n_cases == 1 else 's'}"
     if job.solves_per_case > 1:
         what += f" x {job.solves_per_case} positions"
     if computed < job.cases.n_cases:

@@ -719,7 +719,7 @@ def _mark_defect_passes(ds, axes, x: str, base_units: bool) -> None:
             for j, t in enumerate(turns):
                 ax.axvline(t * per_turn, color=f"C{k + 3}", linestyle=":", linewidth=1.0,
                            label=label if (ax is axes[0] and j == 0) else None)
-    axes[0].legend(loc="upper right", fontsize="small")
+    axes[0].legend(loc="lower right", fontsize="small", framealpha=0.95)
 
 
 def plot_passage(source, var=PAPER_ENTRIES, *, at=None, x: str = "angle", normalise: str = "none", out=None,
@@ -758,7 +758,8 @@ def plot_passage(source, var=PAPER_ENTRIES, *, at=None, x: str = "angle", normal
             axes[-1].set_xlabel(curves[0][2])
             if "shaft_angle" in ds:
                 revolutions = int(ds.attrs["revolutions"])
-                axes[0].set_title(f"{_bearing_title(ds)}, {revolutions} shaft revolution(s), {positions} positions"
+                axes[0].set_title(f"{_bearing_title(ds)}, {revolutions} shaft revolution"
+                                  f"{'' if revolutions == 1 else 's'}, {positions} positions"
                                   + _where_text(ds, ("position",), curves[0][4]))
                 _mark_defect_passes(ds, axes, x, base_units)
             else:
