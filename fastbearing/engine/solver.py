@@ -32,7 +32,8 @@ bearing, say) ends as ``PRECISION_LIMIT`` once it reaches the floor, never as
 import math
 from collections import namedtuple
 
-from numba import njit
+from numba import njit, types
+from numba.extending import overload
 
 from ..config import (CACHE, DIVERGED_REACH, ERROR_MODEL, FASTMATH, NEWTON, RECORD_AHEAD, REFCOUNT,
                      SEARCH_CURVATURE, SEARCH_TRIALS, SMOOTHING_FIRST, SMOOTHING_LAST, SMOOTHING_RATIO, SMOOTHING_RTOL, STAGNATION_ITERATIONS,
@@ -539,6 +540,23 @@ def _still_start(f_target, q, f, K, balls, settings, tol, arm, reach, D, work, b
     return ev + ev2, it, status == CONVERGED
 
 
+def still_start(f_target, q, f, K, balls, settings, tol, arm, reach, D, work, ball_load, contact_angle):
+    """:func:`_still_start` for an element set at speed; for a quasi-static one (no speed table) nothing:
+    chosen while typing, so that a quasi-static solve does not compile the standing-still start (the solver
+    reaches it only at speed)."""
+
+
+@overload(still_start)
+def _still_start_choice(f_target, q, f, K, balls, settings, tol, arm, reach, D, work, ball_load, contact_angle):
+    if isinstance(balls.types[balls.fields.index("speed_table")], types.NoneType):
+        return lambda f_target, q, f, K, balls, settings, tol, arm, reach, D, work, ball_load, contact_angle: \
+            (0, 0, False)
+
+    def at_speed(f_target, q, f, K, balls, settings, tol, arm, reach, D, work, ball_load, contact_angle):
+        return _still_start(f_target, q, f, K, balls, settings, tol, arm, reach, D, work, ball_load, contact_angle)
+    return at_speed
+
+
 @njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
 def with_warnings(status, warn):
     """A converged outcome with the kernel's warning bits on top; a ball at speed that did not settle
@@ -635,7 +653,7 @@ def solve_case(f_target, q, f, K, balls, settings, warm, work, ball_load, contac
     if not warm and balls.omega != 0.0 and scale > 0.0:
         # spinning and no start given: start from the balls standing still, roughly solved (a continuation
         # in speed from 0); the spinning solve's own cold start stays the second attempt
-        ev, it, warm = _still_start(f_target, q, f, K, balls, settings, max(tol, STILL_START_RTOL * scale), arm,
+        ev, it, warm = still_start(f_target, q, f, K, balls, settings, max(tol, STILL_START_RTOL * scale), arm,
                                     reach, D, work, ball_load, contact_angle)
         evals += ev
         iterations += it
@@ -668,7 +686,7 @@ def solve_case(f_target, q, f, K, balls, settings, warm, work, ball_load, contac
         # spinning: from the balls standing still, solved to the tolerance (the rough start above can leave a
         # light load far off along a soft direction): at low speeds the answer is next to it
         forget_warm(spin)  # the failed attempts' ball centres are no start
-        ev, it, still = _still_start(f_target, q, f, K, balls, settings, tol, arm, reach, D, work, ball_load,
+        ev, it, still = still_start(f_target, q, f, K, balls, settings, tol, arm, reach, D, work, ball_load,
                                      contact_angle)
         evals += ev
         iterations += it
