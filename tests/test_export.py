@@ -164,7 +164,7 @@ def test_export_at_picks_the_nearest_grid_point_and_says_so(tmp_path, grid_map):
     assert body["cases"]["Fx"]["values"] == 1000.0
     assert cli("export", grid_map, "--format", "dmig", "-o", tmp_path / "a.dmig", "--at",
                "Fx=1500,My=-1e4").returncode == 0
-    for at, words in (("Fx=1000", "missing ['My']"), ("Fx=1000,My=0,Fz=3", "unknown ['Fz']"),
+    for at, words in (("Fx=1000", "(missing: My)"), ("Fx=1000,My=0,Fz=3", "(not an axis: Fz)"),
                       ("Fx=abc,My=0", "--at Fx must be a number"), ("Fx", "NAME=VALUE")):
         bad = cli("export", grid_map, "--format", "dmig", "-o", tmp_path / "b.dmig", "--at", at)
         assert bad.returncode == 2 and words in bad.stderr, bad.stderr

@@ -271,8 +271,9 @@ def _nearest_case(rf, at: dict) -> tuple[int, str]:
     unknown = sorted(set(at) - set(lead_dims))
     missing = [d for d in lead_dims if d not in at]
     if unknown or missing:
-        raise ValueError(f"--at must name each varying axis of this file once: {', '.join(lead_dims)} "
-                         f"(unknown {unknown}, missing {missing})")
+        wrong = "; ".join(part for part in (f"not an axis: {', '.join(unknown)}" if unknown else "",
+                                            f"missing: {', '.join(missing)}" if missing else "") if part)
+        raise ValueError(f"--at must name each varying axis of this file once: {', '.join(lead_dims)} ({wrong})")
     index, said = [], []
     for axis, dim in enumerate(lead_dims):
         values = rf.read(dim) if rf.has(dim) else np.arange(shape[axis])
