@@ -139,5 +139,12 @@ def test_the_pictures_mark_the_defect_passes_and_the_spectrum_reads_in_orders(tm
 def test_defects_on_four_point_rows_are_refused_for_now(tmp_path):
     """Each four-point ball meets a race on two contact pairs: not modelled yet, so refused in one line (at
     speed a defect on pair -'s column was silently dropped)."""
-    with pytest.raises(ValueError, match="four-point contact rows are not modelled yet"):
+    with pytest.raises(ValueError,
+                       match=r"defects\[0\]\.race is not modelled on rows of four_point_ball elements .*no local defects"):
         _table(tmp_path, [{"race": "outer", "width": 1.0, "depth": 0.01}], "qj", bearing=str(DATA / "QJ210.toml"))
+
+
+def test_a_ball_defect_on_a_roller_bearing_is_refused_naming_the_rows(tmp_path):
+    with pytest.raises(ValueError, match=r"defects\[0\]\.race is not modelled on rows of cylindrical_roller"):
+        _table(tmp_path, [{"race": "ball", "element": 0, "width": 1.0, "depth": 0.01}], "r",
+               bearing=str(DATA / "NU205.toml"))

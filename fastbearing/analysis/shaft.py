@@ -279,13 +279,10 @@ _MASS_KEYS = {"mass", "inertia_x", "inertia_y", "center"}
 
 
 def mirrored(bearing: Bearing) -> Bearing:
-    """The same bearing mounted the other way round: axial offsets and contact directions flip. A four-point
-    row is its own mirror image: its two contact pairs keep their order (+a0, then -a0)."""
-    rows = [replace(r, axial_offset=-r.axial_offset, contact_direction=-r.contact_direction) for r in bearing.rows]
-    for i, r in enumerate(rows):
-        if getattr(r, "element", "") == "four_point_ball" and r.contact_direction == -1 and i + 1 < len(rows):
-            rows[i], rows[i + 1] = rows[i + 1], rows[i]  # the pair at +a0 first again
-    return replace(bearing, rows=tuple(rows))
+    """The same bearing mounted the other way round: axial offsets and contact directions flip (a row kind
+    that is its own mirror image puts itself back in order: Bearing's rows)."""
+    return replace(bearing, rows=tuple(replace(r, axial_offset=-r.axial_offset,
+                                               contact_direction=-r.contact_direction) for r in bearing.rows))
 
 
 def read_shaft(config) -> Shaft:

@@ -25,14 +25,11 @@ from numba import njit, types
 from numba.extending import overload
 
 from ..config import CACHE, ERROR_MODEL, KERNEL_FASTMATH, REFCOUNT
-from .high_speed import BALL_RTOL, _ball_constants, _inner_centre, kinematics
+from .high_speed import BALL_RTOL, _ball_constants, _inner_centre, kinematics, write_contacts, write_state
 from .schema import (AXIAL_OFFSET, COS_NOMINAL, COS_PSI, DEFLECTION_LIMIT, DIAMETER, DIRECTION, GAMMA, INERTIA,
                      INNER_ARM, INNER_CONTROL, INNER_RADIUS, K_INNER, K_OUTER, LAMBDA_INNER, LAMBDA_OUTER,
-                     MASS_RADIUS, N_WARM, OUTER_RADIUS, OUTER_SHARE, PITCH_RADIUS, SIN_PSI,
-                     STATE_CENTRIFUGAL, STATE_GYROSCOPIC, STATE_INNER_ANGLE, STATE_INNER_LOAD, STATE_ITERATIONS,
-                     STATE_ORBITAL_SPEED, STATE_OUTER_ANGLE, STATE_OUTER_LOAD, STATE_RESIDUAL, WARM_BR, WARM_BZ,
+                     MASS_RADIUS, N_WARM, OUTER_RADIUS, OUTER_SHARE, PITCH_RADIUS, SIN_PSI, WARM_BR, WARM_BZ,
                      WARM_VALID)
-from .trig import atan2
 
 #: The complex step (mm): far below any length of the model, far above underflow.
 STEP = 1e-20
@@ -140,9 +137,9 @@ def _derivative(x, k, p, w_i, w_o, eps):
 
 @njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
 def _residual(br, bz, u, p, w_i, w_o, eps):
-    """(largest residual component N, force scale N) at B."""
+    """(largest residual component N, force scale N, and the ball's evaluation (y, st)) at B."""
     y, st = four_point_ball(br, bz, u[2], u[3], u[4], u[5], p, w_i, w_o, eps)
-    return max(abs(y[0]), abs(y[1])), st[0] + st[1] + st[2] + st[3] + abs(st[12])
+    return max(abs(y[0]), abs(y[1])), st[0] + st[1] + st[2] + st[3] + abs(st[12]), y, st
 
 
 @njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
@@ -179,35 +176,35 @@ def settle_four_point(u, p, w_i, w_o, eps, br, bz):
     """The ball's centre B (mm, pair +'s frame) where its residual vanishes, by damped Newton from (br, bz)
     with the complex-step Jacobian (u: the inner groove centres as in :func:`_derivative`'s x[2:]). Settled
     within BALL_RTOL of its largest force, or (the lightest contacts) within the rounding floor of its
-    position, as high_speed's balls. Returns (br, bz, iterations, settled)."""
+    position, as high_speed's balls. Returns (br, bz, iterations, settled, and at B the ball's evaluation y,
+    st and its Jacobian columns dg/dB_r, dg/dB_z as :func:`_derivative` gives them, for the caller to reuse)."""
     longest = 0.05 * p[DIAMETER]  # the longest step: a twentieth of the ball
     reach = p[INNER_RADIUS] + p[OUTER_RADIUS] + abs(u[2]) + abs(u[3]) + abs(u[4]) + abs(u[5])
-    res, scale = _residual(br, bz, u, p, w_i, w_o, eps)
-    for it in range(ITERATIONS):
+    res, scale, y, st = _residual(br, bz, u, p, w_i, w_o, eps)
+    for it in range(ITERATIONS + 1):
         x = (br, bz, u[2], u[3], u[4], u[5])
-        y, _ = four_point_ball(br, bz, u[2], u[3], u[4], u[5], p, w_i, w_o, eps)
         a = _derivative(x, np.int64(0), p, w_i, w_o, eps)  # a run-time index: one compiled variant
         b = _derivative(x, np.int64(1), p, w_i, w_o, eps)
         floor = 8.0 * 2.220446049250313e-16 * reach * (abs(a[0]) + abs(a[1]) + abs(b[0]) + abs(b[1]))
         if res <= max(BALL_RTOL * scale, floor):
-            return br, bz, it, True
+            return br, bz, it, True, y, st, a, b
         det = a[0] * b[1] - b[0] * a[1]
-        if det == 0.0 or not math.isfinite(det):
-            return br, bz, it, False
+        if it == ITERATIONS or det == 0.0 or not math.isfinite(det):
+            return br, bz, it, False, y, st, a, b
         step_r = (b[1] * y[0] - b[0] * y[1]) / det
         step_z = (a[0] * y[1] - a[1] * y[0]) / det
         t = min(1.0, longest / max(math.sqrt(step_r * step_r + step_z * step_z), 1e-300))
         for _ in range(HALVINGS):
-            trial, trial_scale = _residual(br - t * step_r, bz - t * step_z, u, p, w_i, w_o, eps)
+            trial, trial_scale, y_t, st_t = _residual(br - t * step_r, bz - t * step_z, u, p, w_i, w_o, eps)
             if trial < res:
                 break
             t *= 0.5
         if not trial < res:  # no step lowers the residual: as settled as float64 gets, or stuck
-            return br, bz, it, res <= max(BALL_RTOL * scale, 4.0 * floor)
+            return br, bz, it, res <= max(BALL_RTOL * scale, 4.0 * floor), y, st, a, b
         br -= t * step_r
         bz -= t * step_z
-        res, scale = trial, trial_scale
-    return br, bz, ITERATIONS, False
+        res, scale, y, st = trial, trial_scale, y_t, st_t
+    return br, bz, ITERATIONS, False, y, st, a, b  # not reached: the last pass returns
 
 
 @njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
@@ -236,16 +233,15 @@ def four_point_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact
             br, bz = warm[WARM_BR, j], warm[WARM_BZ, j]
         else:
             br, bz = _cold_guess(u, p, w_i, w_o)
-        br, bz, iterations, settled = settle_four_point(u, p, w_i, w_o, eps, br, bz)
+        br, bz, iterations, settled, y, st, dB0, dB1 = settle_four_point(u, p, w_i, w_o, eps, br, bz)
         if not settled and warm[WARM_VALID, j] != 0.0:  # a stale warm start: once more from the cold guess
             br, bz = _cold_guess(u, p, w_i, w_o)
-            br, bz, iterations, settled = settle_four_point(u, p, w_i, w_o, eps, br, bz)
+            br, bz, iterations, settled, y, st, dB0, dB1 = settle_four_point(u, p, w_i, w_o, eps, br, bz)
         warm[WARM_BR, j] = br
         warm[WARM_BZ, j] = bz
         warm[WARM_VALID, j] = 1.0 if settled else 0.0
         if not settled:
             flags |= 4
-        y, st = four_point_ball(br, bz, u1r, u1z, u2r, u2z, p, w_i, w_o, eps)
         Qi1, Qo1, Qi2, Qo2, ci1, si1, co1, so1, ci2, si2, co2, so2, Fc, Mg, wm, di1, do1, di2, do2 = st
         total += Qi1 + Qi2
         n_loaded += (di1 > 0.0) + (di2 > 0.0)
@@ -268,36 +264,15 @@ def four_point_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact
             f[3] += mo * s
             f[4] -= mo * c
         if ball_load is not None:
-            ball_load[j] = Qi1
-            contact_angle[j] = atan2(si1, ci1)
-            ball_load[m_col] = Qi2
-            contact_angle[m_col] = atan2(si2, ci2)
-            if ball_load.shape[0] >= 2 * n:
-                ball_load[n + j] = Qo1
-                contact_angle[n + j] = atan2(so1, co1)
-                ball_load[n + m_col] = Qo2
-                contact_angle[n + m_col] = atan2(so2, co2)
+            write_contacts(ball_load, contact_angle, n, j, Qi1, Qo1, ci1, si1, co1, so1)
+            write_contacts(ball_load, contact_angle, n, m_col, Qi2, Qo2, ci2, si2, co2, so2)
         if states is not None:
             residual = max(abs(y[0]), abs(y[1])) / max(Qi1 + Qo1 + Qi2 + Qo2 + abs(Fc), 1e-300)
-            _state(states, j, Qi1, Qo1, ci1, si1, co1, so1, Fc, Mg, wm, iterations, residual)
-            _state(states, m_col, Qi2, Qo2, ci2, si2, co2, so2, Fc, Mg, wm, iterations, residual)
+            write_state(states, j, Qi1, Qo1, ci1, si1, co1, so1, Fc, Mg, wm, iterations, residual)
+            write_state(states, m_col, Qi2, Qo2, ci2, si2, co2, so2, Fc, Mg, wm, iterations, residual)
         if K is not None:
-            _add_stiffness(K, scratch, (br, bz, u1r, u1z, u2r, u2z), p, w_i, w_o, eps, c, s, z, R, s1, s2)
+            _add_stiffness(K, scratch, (br, bz, u1r, u1z, u2r, u2z), p, w_i, w_o, eps, c, s, z, R, s1, s2, dB0, dB1)
     return total, n_loaded, flags
-
-
-@njit(inline="always")
-def _state(states, col, Qi, Qo, ci, si, co, so, Fc, Mg, wm, iterations, residual):
-    """One contact pair's row of the ball-state record (the ball's F_c, M_g, omega_m on both pairs' rows)."""
-    states[col, STATE_INNER_LOAD] = Qi
-    states[col, STATE_OUTER_LOAD] = Qo
-    states[col, STATE_INNER_ANGLE] = atan2(si, ci)
-    states[col, STATE_OUTER_ANGLE] = atan2(so, co)
-    states[col, STATE_CENTRIFUGAL] = Fc
-    states[col, STATE_GYROSCOPIC] = Mg
-    states[col, STATE_ORBITAL_SPEED] = wm
-    states[col, STATE_ITERATIONS] = iterations
-    states[col, STATE_RESIDUAL] = residual
 
 
 @njit(inline="always")
@@ -307,11 +282,10 @@ def _dot(scratch, row, du):
 
 
 @njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
-def _add_stiffness(K, scratch, x, p, w_i, w_o, eps, c, s, z, R, s1, s2):
+def _add_stiffness(K, scratch, x, p, w_i, w_o, eps, c, s, z, R, s1, s2, dB0, dB1):
     """Kb += one four-point ball's share: the condensed dY/du = Y_u - Y_B G_B^-1 G_u (Y = (F_1, m_1, F_2, m_2),
-    u = (u1, u2); 6 x 4 in ``scratch``) mapped through both pairs' columns."""
-    dB0 = _derivative(x, np.int64(0), p, w_i, w_o, eps)
-    dB1 = _derivative(x, np.int64(1), p, w_i, w_o, eps)
+    u = (u1, u2); 6 x 4 in ``scratch``) mapped through both pairs' columns; dB0, dB1 the derivatives along
+    B_r, B_z at x (the settle's last Jacobian, at this very B)."""
     det = dB0[0] * dB1[1] - dB1[0] * dB0[1]
     for m in range(4):
         du = _derivative(x, 2 + m, p, w_i, w_o, eps)

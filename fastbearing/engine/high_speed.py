@@ -704,6 +704,32 @@ def _ring_sums(sums, table, speed_table, out, j0, m, eps):
     return sums
 
 
+@njit(inline="always")
+def write_contacts(ball_load, contact_angle, n, j, Qi, Qo, ci, si, co, so):
+    """Column j's contacts into the per-element record: the inner one's load (N) and angle (rad) at j and, in a
+    record with room for them (2 n), the outer one's at n + j (a map's life at speed reads them)."""
+    ball_load[j] = Qi
+    contact_angle[j] = atan2(si, ci)
+    if ball_load.shape[0] >= 2 * n:
+        ball_load[n + j] = Qo
+        contact_angle[n + j] = atan2(so, co)
+
+
+@njit(inline="always")
+def write_state(states, j, Qi, Qo, ci, si, co, so, Fc, Mg, wm, iterations, residual):
+    """Column j's row of the ball-state record (schema STATE_*: loads N, angles rad, F_c N, M_g N*mm, omega_m
+    rad/s, the settle's iterations and its relative residual)."""
+    states[j, STATE_INNER_LOAD] = Qi
+    states[j, STATE_OUTER_LOAD] = Qo
+    states[j, STATE_INNER_ANGLE] = atan2(si, ci)
+    states[j, STATE_OUTER_ANGLE] = atan2(so, co)
+    states[j, STATE_CENTRIFUGAL] = Fc
+    states[j, STATE_GYROSCOPIC] = Mg
+    states[j, STATE_ORBITAL_SPEED] = wm
+    states[j, STATE_ITERATIONS] = iterations
+    states[j, STATE_RESIDUAL] = residual
+
+
 @njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
 def _ball_pass(q, table, speed_table, omega, eps, ball_load, contact_angle, states, warm):
     """:func:`spinning_balls`' work, Kb or not (one compiled loop for both): returns (the ring sums,
@@ -772,22 +798,11 @@ def _ball_pass(q, table, speed_table, omega, eps, ball_load, contact_angle, stat
                 flags |= 2
             total += Qi
             if ball_load is not None:
-                ball_load[j] = Qi
-                contact_angle[j] = atan2(si, ci)
-                if ball_load.shape[0] >= 2 * n:  # a record with room for them: the outer contacts too
-                    ball_load[n + j] = Qo
-                    contact_angle[n + j] = atan2(so, co)
+                write_contacts(ball_load, contact_angle, n, j, Qi, Qo, ci, si, co, so)
             if states is not None:
-                states[j, STATE_INNER_LOAD] = Qi
-                states[j, STATE_OUTER_LOAD] = Qo
-                states[j, STATE_INNER_ANGLE] = atan2(si, ci)
-                states[j, STATE_OUTER_ANGLE] = atan2(so, co)
-                states[j, STATE_CENTRIFUGAL] = Fc
-                states[j, STATE_GYROSCOPIC] = Mg
-                states[j, STATE_ORBITAL_SPEED] = wm
-                states[j, STATE_ITERATIONS] = iterations
                 # the equilibrium residual relative to the ball's largest force (a free ball's on the outer race)
-                states[j, STATE_RESIDUAL] = max(abs(sm[SM_GR]), abs(sm[SM_GZ])) / max(Qi + Qo + abs(Fc), 1e-300)
+                write_state(states, j, Qi, Qo, ci, si, co, so, Fc, Mg, wm, iterations,
+                            max(abs(sm[SM_GR]), abs(sm[SM_GZ])) / max(Qi + Qo + abs(Fc), 1e-300))
         sums = _ring_sums(sums, table, speed_table, out, j0, m, eps)
     return sums, total, n_loaded, flags
 

@@ -206,12 +206,6 @@ def _revolutions(spec: dict, bearing: Bearing, positions: int):
     else:
         raise ValueError("passage.revolutions and passage.defects need the ball's kinematics: [bearing.geometry] "
                          "(ball_diameter, pitch_diameter) or passage.ball_diameter and passage.pitch_diameter (mm)")
-    if defects and any(getattr(r, "element", "") == "four_point_ball" for r in bearing.rows):
-        raise ValueError("passage.defects: local defects on four-point contact rows are not modelled yet (each ball "
-                         "meets a race at two points, on two contact pairs); use them on ball or roller rows")
-    if bearing.roller_rows and any(d.race == "ball" for d in defects):
-        raise ValueError("passage.defects: a defect on an element (race = \"ball\") covers balls; roller rows take "
-                         "race defects (outer, inner)")
     angle = bearing.rows[0].contact_angle
     orders = fault_orders(D, dm, 1, angle, rotating)
     kin = Kinematics(D, dm, math.radians(angle), rotating, orders["FTF"], orders["BSF"])

@@ -163,6 +163,8 @@ class Row:
     element = "ball"
     #: Its elements, in words (for reports and pictures).
     element_word = "balls"
+    #: Where a local defect may sit (model/defects.py): either race, or a ball.
+    defect_races = ("outer", "inner", "ball")
 
     @property
     def n_elements(self) -> int:

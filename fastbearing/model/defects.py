@@ -58,6 +58,11 @@ def parse_defects(spec, bearing, where: str = "passage.defects") -> tuple[Defect
         at = f"{where}[{i}]"
         validate.table(d, at, _DEFECT_KEYS, ("race", "width", "depth"))
         race = validate.choice(d["race"], f"{at}.race", RACES)
+        for r in bearing.rows:  # each element kind says where its defects are modelled
+            if race not in r.defect_races:
+                where = ", ".join(r.defect_races) if r.defect_races else "no local defects yet"
+                raise validate.FieldError(f"{at}.race", f"is not modelled on rows of {r.element} elements "
+                                          f"({r.element_word}): they take {where}", race)
         element = None
         if race == "ball":
             if "element" not in d:

@@ -177,6 +177,8 @@ class RollerRow:
     # -- what every element kind's row tells (bearing.Row answers the same) -----------------------------------
     #: Its elements, in words (for reports and pictures).
     element_word = "rollers"
+    #: Where a local defect may sit (model/defects.py): either race (a roller's own defect is not modelled).
+    defect_races = ("outer", "inner")
 
     @property
     def n_elements(self) -> int:

@@ -555,6 +555,17 @@ def _label_log_colorbar(bar, low: float, high: float) -> None:
     bar.update_ticks()
 
 
+def _variables_to_draw(var, out, overwrite: bool) -> list[str]:
+    """The variables a picture draws (one name or several; at least one), its output checked before any work
+    (an existing picture is replaced only with ``overwrite``)."""
+    names = [var] if isinstance(var, str) else list(var)
+    if not names:
+        raise ValueError("var must name at least one variable")
+    if out is not None:
+        check_output(out, overwrite)
+    return names
+
+
 def plot_lines(source, var, x: str, *, at=None, row=None, series=None, out=None, overwrite: bool = False,
                size=None, dpi: int = DEFAULT_DPI, base_units: bool = False):
     """Line plots of one or more variables of a load map along one grid axis.
@@ -564,11 +575,7 @@ def plot_lines(source, var, x: str, *, at=None, row=None, series=None, out=None,
     gets one line per row. ``at`` fixes the other axes (nearest value;
     default the middle one). Non-converged cases are gaps.
     """
-    names = [var] if isinstance(var, str) else list(var)
-    if not names:
-        raise ValueError("var must name at least one variable")
-    if out is not None:
-        check_output(out, overwrite)
+    names = _variables_to_draw(var, out, overwrite)
     with _dataset(source, "map") as ds:
         _check_axis(ds, x, "a line plot")
         keep = (x,)
@@ -732,11 +739,7 @@ def plot_passage(source, var=PAPER_ENTRIES, *, at=None, x: str = "angle", normal
     Figs. 13-14; ``"mean"``) share one panel; absolute entries get one panel
     each. ``at`` picks the operating point (nearest value; default the first).
     """
-    names = [var] if isinstance(var, str) else list(var)
-    if not names:
-        raise ValueError("var must name at least one variable")
-    if out is not None:
-        check_output(out, overwrite)
+    names = _variables_to_draw(var, out, overwrite)
     with _dataset(source, "passage") as ds:
         curves = [passage_curve(ds, n, at=at, x=x, normalise=normalise, base_units=base_units) for n in names]
         positions = ds.sizes["position"]
@@ -785,11 +788,7 @@ def plot_spectrum(source, var=PAPER_ENTRIES, *, at=None, normalise: str = "mean"
     """
     if normalise not in ("none", "mean"):
         raise ValueError(f"normalise must be 'none' or 'mean' for a spectrum, got {normalise!r}")
-    names = [var] if isinstance(var, str) else list(var)
-    if not names:
-        raise ValueError("var must name at least one variable")
-    if out is not None:
-        check_output(out, overwrite)
+    names = _variables_to_draw(var, out, overwrite)
     with _dataset(source, "passage") as ds:
         for name in names:
             if k_entry(name) is None:
