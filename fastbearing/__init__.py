@@ -28,6 +28,7 @@ _PUBLIC = {
                      "geometry_from_table", "hertz_contact", "race_contacts"), "model.geometry"),
     **dict.fromkeys(("LifeResult", "rating_life"), "analysis.life"),
     **dict.fromkeys(("loadmap", "open_dataset"), "jobs.loadmap"),
+    "open_map": "jobs.runner",
     **dict.fromkeys(("bearing_report", "bearing_report_text", "fault_frequency_report"), "report.bearing_report"),
     **dict.fromkeys(("fault_frequencies", "fault_orders"), "analysis.faults"),
     "passage": "jobs.passage",

@@ -193,7 +193,7 @@ def build_parser() -> argparse.ArgumentParser:
                             "name); CSV column names end in their units (Fx_N, kxx_N_per_mm) under one header row. "
                             "dmig and ross take one case (--case, the flat case index, or --at, the nearest grid "
                             "point)."))
-    ex.add_argument("source", metavar="SOURCE", help="a .json from solve/shaft --json, or a .h5 map or table")
+    ex.add_argument("source", metavar="SOURCE", help="a .json from solve/shaft --json, or a .h5 map or table, or a .zarr store")
     ex.add_argument("--format", required=True, choices=EXPORT_FORMATS, help="output format")
     ex.add_argument("-o", "--output", required=True, metavar="OUT", help="output file")
     ex.add_argument("--case", type=int, default=None, metavar="N", help="flat case index in a .h5 source")
@@ -220,9 +220,13 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def _add_job_arguments(parser) -> None:
-    """The options every HDF5 job (loadmap, passage) shares: output, threads, resume, Dask."""
+    """The options every job (loadmap, passage) shares: output and its format, threads, resume, Dask."""
     parser.add_argument("-o", "--output", metavar="OUT.h5",
-                        help="output file (default: CONFIG's name with suffix .h5, in the current folder)")
+                        help="output: an HDF5 file, or a zarr v3 store for a name ending in .zarr or any fsspec URL "
+                        "(s3://bucket/map.zarr ...; needs pip install 'fastbearing[zarr]') (default: CONFIG's name "
+                        "with suffix .h5, or .zarr with --format zarr, in the current folder)")
+    parser.add_argument("--format", choices=("hdf5", "zarr"), help="output format (default: from -o's name; "
+                        "HDF5 without -o); with --dask, zarr stores are written by the workers themselves")
     parser.add_argument("--threads", type=int, metavar="N",
                         help="worker threads (default: NUMBA_NUM_THREADS, all cores); results do not depend on it")
     parser.add_argument("--resume", action="store_true", help="continue an interrupted run of the same config")
@@ -251,8 +255,9 @@ def _run_job(run, args, **extra) -> int:
         client, cluster = client_for(args.dask)
     elif args.in_flight is not None:
         raise ValueError("--in-flight goes with --dask")
+    output = _job_output(args)
     try:
-        run(args.config, args.output, threads=args.threads, resume=args.resume, overwrite=args.overwrite,
+        run(args.config, output, threads=args.threads, resume=args.resume, overwrite=args.overwrite,
             progress=False if args.no_progress else None, client=client, max_in_flight=args.in_flight, **extra)
     except KeyboardInterrupt:
         return 130
@@ -262,6 +267,22 @@ def _run_job(run, args, **extra) -> int:
         if cluster is not None:
             cluster.close()
     return 0
+
+
+def _job_output(args):
+    """-o as given, checked against --format; without -o and with --format zarr, CONFIG's name with .zarr."""
+    from .jobs.zarr_store import is_zarr_location
+
+    if args.format is None:
+        return args.output
+    if args.output is None:
+        from pathlib import Path
+
+        return Path(Path(args.config).name).with_suffix(".zarr") if args.format == "zarr" else None
+    if (args.format == "zarr") != is_zarr_location(args.output):
+        raise ValueError(f"--format {args.format} does not match -o {args.output}: a zarr store's name ends in .zarr "
+                         "(or is a URL); an HDF5 file's does not")
+    return args.output
 
 
 def _size(text: str) -> tuple[int, int]:

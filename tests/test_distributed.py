@@ -144,3 +144,93 @@ def test_a_block_the_scheduler_cancels_is_sent_again(client, local_map, tmp_path
     out = fb.loadmap(CONFIG, tmp_path / "cancelled.h5", progress=False, client=client, max_in_flight=3)
     assert len(cancelled) == 1
     assert_identical(out, local_map)
+
+
+# -- zarr stores written by the workers themselves (jobs/zarr_store.py) ------------------------------------
+
+def _assert_store_equals(store, h5):
+    import zarr
+
+    g = zarr.open_group(str(store), mode="r")
+    with h5py.File(h5, "r") as fh:
+        for name in VARIABLES:
+            np.testing.assert_array_equal(g[name][...], fh[name][...], err_msg=name)
+
+
+def test_workers_write_the_zarr_store(client, local_map, tmp_path):
+    """Into a zarr store the workers write their own blocks: the store equals the local run's file, and the
+    client receives each block's status counts (2 kB) instead of its arrays."""
+    pytest.importorskip("zarr")
+    out = fb.loadmap(CONFIG, tmp_path / "dask.zarr", progress=False, client=client, max_in_flight=3)
+    _assert_store_equals(out, local_map)
+    ds = fb.open_map(out)
+    assert ds.attrs["engine"] == "dask" and ds.attrs["dask_written_by"] == "workers"
+    n_blocks = int(ds.attrs["n_blocks"])
+    assert ds.attrs["dask_bytes_received"] == n_blocks * 256 * 8            # the counts, nothing else
+    funnel = fb.open_map(fb.loadmap(CONFIG, tmp_path / "funnel.h5", progress=False, client=client))
+    assert funnel.attrs["dask_written_by"] == "client"
+    assert funnel.attrs["dask_bytes_received"] > 100 * ds.attrs["dask_bytes_received"]
+
+
+def test_a_killed_workers_zarr_block_is_redone(client, tmp_path):
+    """SIGKILL a worker while it computes (or writes) a block of a zarr store: the block is computed and
+    written again, and the store equals a local run."""
+    pytest.importorskip("zarr")
+    reference = fb.loadmap(BIG, tmp_path / "reference.h5", progress=False)
+    pids = client.run(os.getpid)
+    killed, finished = [], threading.Event()
+
+    def kill_a_busy_worker():
+        while not finished.is_set():
+            busy = [addr for addr, keys in client.processing().items() if keys and addr in pids]
+            if busy:
+                os.kill(pids[busy[0]], signal.SIGKILL)
+                killed.append(busy[0])
+                return
+            time.sleep(0.005)
+
+    watcher = threading.Thread(target=kill_a_busy_worker)
+    watcher.start()
+    try:
+        out = fb.loadmap(BIG, tmp_path / "killed.zarr", progress=False, client=client, max_in_flight=4)
+    finally:
+        finished.set()
+        watcher.join()
+    assert killed, "no worker was ever seen processing a block"
+    _assert_store_equals(out, reference)
+    client.wait_for_workers(2, timeout=60)
+
+
+def test_a_killed_client_resumes_the_zarr_store(client, tmp_path):
+    """SIGKILL the client (the `fastbearing loadmap --dask` process) once a few blocks are recorded in the
+    store: --resume (here on this test's cluster) computes only the rest, and the store equals a local run."""
+    import subprocess
+    import sys
+
+    pytest.importorskip("zarr")
+    cfg = tmp_path / "big.toml"
+    cfg.write_text('[bearing]\npreset = "gunduz2013"\narrangement = "DB"\n[loadmap]\nchunk = 1000\n'
+                   "Fx = { start = -2000.0, stop = 2000.0, num = 80 }\nFz = { start = 500.0, stop = 10000.0, num = 30 }\n"
+                   "My = { start = -1.0e5, stop = 1.0e5, num = 99 }\n")
+    out = tmp_path / "big.zarr"
+    proc = subprocess.Popen([sys.executable, "-m", "fastbearing.cli", "loadmap", str(cfg), "-o", str(out),
+                             "--dask", "local:2", "--in-flight", "2", "--no-progress"],
+                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    records = out / "block_counts" / "c"
+    deadline = time.monotonic() + 240
+    try:
+        while time.monotonic() < deadline and proc.poll() is None:
+            if records.is_dir() and sum(1 for _ in records.iterdir()) >= 3:
+                break
+            time.sleep(0.01)
+    finally:
+        proc.kill()
+        proc.wait()
+    assert proc.returncode == -signal.SIGKILL, proc.stderr.read()
+    done = sum(1 for _ in records.iterdir())
+    assert 3 <= done < 240
+    with pytest.raises(ValueError, match="unfinished run exists"):
+        fb.loadmap(str(cfg), out, progress=False)
+    fb.loadmap(str(cfg), out, progress=False, client=client, resume=True)
+    reference = fb.loadmap(str(cfg), tmp_path / "reference.h5", progress=False)
+    _assert_store_equals(out, reference)

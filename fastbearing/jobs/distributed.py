@@ -1,8 +1,12 @@
-"""Jobs on a Dask cluster (dask.distributed): the same blocks, the same kernels, the same file.
+"""Jobs on a Dask cluster (dask.distributed): the same blocks, the same kernels, the same file or store.
 
-The client plans the blocks exactly as a local run does, sends each block's
-inputs to a worker, and writes the returned arrays into the same HDF5 layout
-through the same crash-safe writer (jobs.py). A worker runs the job's own
+The client plans the blocks exactly as a local run does. Into a zarr store
+(zarr_store.py), each worker computes a block from the job's cases (sent
+once to every worker) and writes it into the store itself: the client only
+plans and counts, receiving a block's status counts (2 kB), so its memory and
+traffic do not grow with the map. Into an HDF5 file (one writer), the worker
+sends the block's arrays back and the client writes them through the same
+crash-safe writer as a local run (storage.py). A worker runs the job's own
 compute function on one numba thread, so cores are used by Dask worker
 threads and never oversubscribed (numba threads x Dask threads per worker =
 1 x threads). A bounded number of blocks is in flight, so the client's
@@ -34,6 +38,32 @@ def _worker_block(compute, variables, sizes, inputs, first):
     return res
 
 
+def _worker_block_to_store(compute, cases, variables, sizes, block, sink):
+    """Runs on a worker: computes one block from the job's cases and writes it into the zarr store itself;
+    returns only the block's status counts."""
+    from .zarr_store import write_on_worker
+
+    res = _worker_block(compute, variables, sizes, cases.inputs(block.start, block.stop), block.start)
+    return write_on_worker(sink, block, res)
+
+
+class _Tally:
+    """The client's side of blocks that workers wrote themselves: progress, and nothing to write."""
+
+    def __init__(self, on_written):
+        self.on_written = on_written
+
+    def buffer(self):
+        return None
+
+    def submit(self, block, counts, buf) -> None:
+        if self.on_written is not None:
+            self.on_written(block)
+
+    def close(self) -> None:
+        pass
+
+
 def _worker_threads(client) -> int:
     info = client.scheduler_info()
     return max(1, sum(w.get("nthreads", 1) for w in info.get("workers", {}).values()))
@@ -43,32 +73,45 @@ def _worker_threads(client) -> int:
 MAX_RESUBMITS = 3
 
 
-def run_blocks(client, job, pending, writer, interrupt, max_in_flight=None) -> dict:
-    """Compute the ``pending`` blocks of ``job`` on the cluster and hand each result to ``writer``.
+def run_blocks(client, job, pending, part, sink, on_written, interrupt, max_in_flight=None) -> dict:
+    """Compute the ``pending`` blocks of ``job`` on the cluster.
 
-    ``max_in_flight`` (checked by the runner) bounds the blocks out at once;
-    default 2 per worker thread. Returns provenance attributes (engine,
-    workers, scheduler).
+    With a ``sink`` (a zarr store's ZarrStore.worker_sink) the workers write their blocks into the store;
+    without one their arrays come back and are written into ``part`` (the HDF5 working file) here.
+    ``on_written(block)`` is called as each block is done. ``max_in_flight`` (checked by the runner) bounds
+    the blocks out at once; default 2 per worker thread. Returns provenance attributes (engine, workers,
+    scheduler, and the bytes of results the client received).
     """
     from concurrent.futures import CancelledError
 
     from distributed import as_completed
 
+    from .storage import BlockWriter
+
     threads = _worker_threads(client)
     limit = 2 * threads if max_in_flight is None else max_in_flight
     compute = client.scatter(job.compute, broadcast=True)     # the bearing and settings travel once
+    # the cases travel once too where workers write (a grid's axes; a case table whole)
+    cases = client.scatter(job.cases, broadcast=True) if sink is not None else None
+    writer = _Tally(on_written) if sink is not None else BlockWriter(part, [object() for _ in range(4)], on_written)
     variables = list(job.variables)
     queue = iter(pending)
     futures = {}
     retries = {}
+    received = 0
 
     def submit_next(block=None):
         block = next(queue, None) if block is None else block
         if block is None:
             return None
-        inputs = job.cases.inputs(block.start, block.stop)
-        future = client.submit(_worker_block, compute, variables, job.sizes, inputs, block.start, pure=False,
-                               key=f"fastbearing-block-{block.index}-{os.getpid()}-{retries.get(block.index, 0)}")
+        key = f"fastbearing-block-{block.index}-{os.getpid()}-{retries.get(block.index, 0)}"
+        if sink is not None:
+            future = client.submit(_worker_block_to_store, compute, cases, variables, job.sizes, block, sink,
+                                   pure=False, key=key)
+        else:
+            inputs = job.cases.inputs(block.start, block.stop)
+            future = client.submit(_worker_block, compute, variables, job.sizes, inputs, block.start, pure=False,
+                                   key=key)
         futures[future] = block
         return future
 
@@ -90,9 +133,12 @@ def run_blocks(client, job, pending, writer, interrupt, max_in_flight=None) -> d
                 if retries[block.index] > MAX_RESUBMITS:
                     raise
                 compute = client.scatter(job.compute, broadcast=True)  # its copy may have gone too
+                if sink is not None:
+                    cases = client.scatter(job.cases, broadcast=True)
                 running.add(submit_next(block))
                 continue
             future.release()
+            received += res.nbytes if isinstance(res, np.ndarray) else sum(a.nbytes for a in res.values())
             writer.submit(block, res, writer.buffer())
             if interrupt.requested:
                 raise KeyboardInterrupt
@@ -104,7 +150,9 @@ def run_blocks(client, job, pending, writer, interrupt, max_in_flight=None) -> d
             future.cancel()
         writer.close()
     return {"engine": "dask", "dask_workers": len(client.scheduler_info().get("workers", {})),
-            "dask_worker_threads": threads, "dask_scheduler": str(client.scheduler.address)}
+            "dask_worker_threads": threads, "dask_scheduler": str(client.scheduler.address),
+            "dask_written_by": "workers" if sink is not None else "client",
+            "dask_bytes_received": received}
 
 
 def client_for(spec: str):

@@ -145,10 +145,10 @@ def _attributes(job: Job, n_blocks: int) -> dict:
     }
 
 
-def _create(job: Job, part: Path, blocks) -> None:
+def _create(job: Job, store, blocks, tasks) -> None:
     case_dims, scalars, aux = case_coordinates(job.cases)
-    storage.create(part, case_dims, [*job.own_dims, *_dof_dims(job.bearing)], scalars, list(job.variables),
-                   _attributes(job, len(blocks)), len(blocks), [*aux, *job.aux_coords])
+    store.create(case_dims, [*job.own_dims, *_dof_dims(job.bearing)], scalars, list(job.variables),
+                 _attributes(job, len(tasks)), blocks, tasks, job.compression, [*aux, *job.aux_coords])
 
 
 # -- running ---------------------------------------------------------------------------------------
@@ -215,50 +215,53 @@ def check_in_flight(max_in_flight, name: str = "max_in_flight") -> int | None:
     return validate.integer(max_in_flight, name, low=1, high=MAX_IN_FLIGHT)
 
 
-def output_path(output, source: Path | None) -> Path:
-    """The output file: as given, or the config's name with suffix .h5 in the current folder."""
+def output_path(output, source: Path | None):
+    """The output: as given (a path, or a zarr store's URL), or the config's name with suffix .h5 in the
+    current folder."""
     if output is not None:
-        return Path(output)
+        return output if "://" in str(output) else Path(output)
     if source is None:
         raise ValueError("output is required when the config is not a file")
     return Path(source.name).with_suffix(".h5")
 
 
-def run(job: Job, output: Path, *, threads=None, resume=False, overwrite=False, progress=None, client=None,
-        max_in_flight=None) -> Path:
-    """Compute ``job`` into ``output`` (HDF5); returns the absolute path of the finished file.
+def run(job: Job, output, *, threads=None, resume=False, overwrite=False, progress=None, client=None,
+        max_in_flight=None):
+    """Compute ``job`` into ``output``; returns the absolute path of the finished file or store (a URL as given).
 
-    Every argument is checked before any file is created. A killed or
-    interrupted run keeps its finished blocks in ``output.part``; ``resume``
+    ``output`` ending in ``.zarr``, or any fsspec URL, is a zarr v3 store (zarr_store.py), else an HDF5 file.
+    Every argument is checked before anything is created. A killed or
+    interrupted run keeps its finished blocks (in ``output.part``, or in the zarr store itself); ``resume``
     continues it (same config only) and the result is identical bit for bit
     to an uninterrupted run. Nothing is overwritten unless ``overwrite``.
     """
     check_threads(threads)
     max_in_flight = check_in_flight(max_in_flight)
-    output = Path(output)
-    storage.check_output_path(output)
-    if not (resume and storage.part_path(output).exists()):
-        storage.check_disk_space(output, job.bytes_needed(), f"this {job.kind} ({job.cases.n_cases} {job.case_word}s)")
-    with storage.RunLock(output):
-        out, part, resuming = storage.prepare_output(output, job.fingerprint, resume, overwrite)
-        if resume and not part.exists():
-            print(f"fastbearing: {out} is already complete; nothing to resume", file=sys.stderr)
-            return out.absolute()
+    store = storage.store_for(output)
+    store.check(job.compression)
+    if not (resume and store.unfinished()):
+        store.check_space(job.bytes_needed(), f"this {job.kind} ({job.cases.n_cases} {job.case_word}s)")
+    with store.lock():
+        state = store.prepare(job.fingerprint, resume, overwrite)
+        if state == "done":
+            print(f"fastbearing: {output} is already complete; nothing to resume", file=sys.stderr)
+            return store.result()
         blocks = plan_blocks(job.cases.shape, job.line_length, job.chunk)
-        if resuming and storage.is_complete(part):
+        tasks = store.tasks(blocks, job.cases.shape)
+        if state == "resume" and store.all_done():
             # killed while finishing: every block is there, only the finishing step is repeated
-            storage.finish(part, out, job.compression, blocks, {}, [v.name for v in job.variables])
-            print(f"fastbearing: finished {out} (all blocks were already computed)", file=sys.stderr)
-            return out.absolute()
-        if not resuming:
-            _create(job, part, blocks)
-        _compute(job, part, out, blocks, threads, progress, client, max_in_flight)
-    return out.absolute()
+            store.finish(job.compression, tasks, {}, [v.name for v in job.variables])
+            print(f"fastbearing: finished {output} (all blocks were already computed)", file=sys.stderr)
+            return store.result()
+        if state == "new":
+            _create(job, store, blocks, tasks)
+        _compute(job, store, tasks, threads, progress, client, max_in_flight)
+    return store.result()
 
 
-def _compute(job: Job, part: Path, out: Path, blocks, threads, progress, client, max_in_flight) -> None:
-    """Compute the blocks not yet done into ``part``, then finish it as ``out``."""
-    pf = storage.PartFile(part)
+def _compute(job: Job, store, blocks, threads, progress, client, max_in_flight) -> None:
+    """Compute the blocks not yet done into the store, then finish it."""
+    pf = store.open_part()
     started = time.perf_counter()
     done = pf.done_mask()
     pending = [b for b in blocks if not done[b.index]]
@@ -276,19 +279,19 @@ def _compute(job: Job, part: Path, out: Path, blocks, threads, progress, client,
             else:
                 from .distributed import run_blocks
 
-                writer = storage.BlockWriter(pf, [object() for _ in range(4)], on_written)
-                pf.update_attrs(run_blocks(client, job, pending, writer, interrupt, max_in_flight))
+                pf.update_attrs(run_blocks(client, job, pending, pf, store.worker_sink(), on_written, interrupt,
+                                           max_in_flight))
         if bar is not None:
             bar.close()
     except KeyboardInterrupt:
         pf.close()
-        print(f"\nfastbearing: interrupted; finished blocks are kept in {part}; continue with --resume",
+        print(f"\nfastbearing: interrupted; finished blocks are kept in {store.part_name}; continue with --resume",
               file=sys.stderr)
         raise
     except BaseException as err:
         _close_quietly(pf)
         if _disk_full(err):
-            raise _full(part, job) from None
+            raise _full(store, job) from None
         raise
     computed = sum(b.size for b in pending)
     counts = _status_counts(pf)
@@ -296,15 +299,18 @@ def _compute(job: Job, part: Path, out: Path, blocks, threads, progress, client,
     wall = time.perf_counter() - started
     finishing = time.perf_counter()
     try:
-        storage.finish(part, out, job.compression, blocks, {"wall_time_s": wall, "compile_time_s": watch.seconds,
-                       "status_counts": json.dumps({st.describe(c): k for c, k in counts.items()})},
-                       [v.name for v in job.variables])
+        store.finish(job.compression, blocks, {"wall_time_s": wall, "compile_time_s": watch.seconds,
+                     "status_counts": json.dumps({st.describe(c): k for c, k in counts.items()})},
+                     [v.name for v in job.variables])
     except (OSError, RuntimeError) as err:
         if _disk_full(err):
-            out.with_name(out.name + ".packing").unlink(missing_ok=True)
-            raise _full(part, job, "while finishing") from None
+            if store.format == "hdf5":
+                store.out.with_name(store.out.name + ".packing").unlink(missing_ok=True)
+            raise _full(store, job, "while finishing") from None
         raise
-    print(_summary(job, counts, wall, computed, time.perf_counter() - finishing, watch.seconds), file=sys.stderr)
+    repacked = store.format == "hdf5" and job.compression != "none"
+    print(_summary(job, counts, wall, computed, time.perf_counter() - finishing, watch.seconds, repacked),
+          file=sys.stderr)
 
 
 def _close_quietly(pf: storage.PartFile) -> None:
@@ -314,14 +320,14 @@ def _close_quietly(pf: storage.PartFile) -> None:
         pass
 
 
-def _full(part: Path, job: Job, when: str = "") -> DiskFull:
+def _full(store, job: Job, when: str = "") -> DiskFull:
     import shutil
 
-    done = storage.finished_blocks(part)
+    done = store.finished_blocks()
     need = storage.human_size(job.bytes_needed())
-    free = storage.human_size(shutil.disk_usage(part.parent).free)
+    free = storage.human_size(shutil.disk_usage(Path(store.part_name).parent).free)
     return DiskFull(f"fastbearing: the disk is full{' ' + when if when else ''}: {done} finished blocks are "
-                    f"kept in {part}; the whole {job.kind} needs about {need} ({free} free now); free some space "
+                    f"kept in {store.part_name}; the whole {job.kind} needs about {need} ({free} free now); free some space "
                     "and continue with --resume")
 
 
@@ -377,7 +383,7 @@ def _status_counts(pf: storage.PartFile) -> dict[int, int]:
 
 
 def _summary(job: Job, counts: dict[int, int], wall: float, computed: int, finish: float = 0.0,
-             compiling: float = 0.0) -> str:
+             compiling: float = 0.0, repacked: bool = False) -> str:
     """One line: how many (and how many of them this run computed, when it resumed), what share converged and
     by status, how long (computing, then compressing; the time spent compiling on a line of its own before
     it), and the rate over this run's cases and computing time alone."""
@@ -393,7 +399,7 @@ def _summary(job: Job, counts: dict[int, int], wall: float, computed: int, finis
     work = wall - compiling
     rate = computed * job.solves_per_case / work if work > 0 else float("inf")
     took = f"{work:.2f} s wall"
-    if job.compression != "none":
+    if repacked:
         took = f"{work:.2f} s computing + {finish:.2f} s {job.compression} repack = {work + finish:.2f} s wall"
     said = ""
     if compiling:  # a line of its own, so that the summary reads alike with and without it
@@ -415,7 +421,14 @@ def require_xarray():
 
 
 def open_dataset(path):
-    """Open a finished map or table as an ``xarray.Dataset`` (engine h5netcdf); refuses unfinished files."""
+    """Open a finished map or table as an ``xarray.Dataset``: an HDF5 file (engine h5netcdf) or a zarr store
+    (``xr.open_zarr``, lazy); refuses unfinished ones."""
+    from . import zarr_store
+
+    if zarr_store.is_zarr_location(path):
+        if not zarr_store.is_complete(path):
+            raise ValueError(f"{path} is not a finished fastbearing zarr store")
+        return zarr_store.open_dataset(path)
     path = Path(path)
     if not storage.is_complete(path):
         raise ValueError(f"{path} is not a finished fastbearing file")
@@ -423,3 +436,7 @@ def open_dataset(path):
     import xarray as xr
 
     return xr.open_dataset(path, engine="h5netcdf")
+
+
+#: The same: a finished load map or passage table, HDF5 or zarr, as an ``xarray.Dataset``.
+open_map = open_dataset

@@ -32,7 +32,9 @@ from ..dofs import DISPLACEMENT_UNITS, K_UNITS, LOAD_UNITS
 from ..files import refuse_overwrite
 
 COMPLETE = "fastbearing_complete"
-COMPRESSIONS = ("none", "lzf", "gzip")
+#: Compressions a config may name: HDF5 takes none, lzf, gzip; a zarr store none, gzip, zstd (zarr_store.py).
+COMPRESSIONS = ("none", "lzf", "gzip", "zstd")
+HDF5_COMPRESSIONS = ("none", "lzf", "gzip")
 
 
 @dataclass
@@ -133,9 +135,14 @@ def allocate(variables: list[Variable], sizes: dict[str, int], n: int) -> dict[s
 def check_output_path(out: Path) -> None:
     """One-line ValueError unless ``out`` can be written: its folder exists and is writable, and it is
     not itself a folder. Called before anything is computed or created."""
-    folder = out.parent if str(out.parent) else Path(".")
     if out.is_dir():
         raise ValueError(f"output {out} is a directory; give a file name such as {out / 'map.h5'}")
+    check_folder(out)
+
+
+def check_folder(out: Path) -> None:
+    """One-line ValueError unless the folder ``out`` goes into exists and is writable."""
+    folder = out.parent if str(out.parent) else Path(".")
     if not folder.is_dir():
         raise ValueError(f"output folder {folder} does not exist (create it first, or choose another -o)")
     if not os.access(folder, os.W_OK | os.X_OK):
@@ -293,6 +300,11 @@ class PartFile:
             ds = self.fh[name]
             ds[slab] = values.reshape(_slab_shape(ds.shape, slab))
 
+    def write_block(self, block, arrays: dict[str, np.ndarray]) -> None:
+        """Write a finished block, then mark it done."""
+        self.write(block.slab, arrays)
+        self.mark_done(block.index)
+
     def mark_done(self, index: int) -> None:
         # data first, then the mark: a kill in between only redoes the block
         self.fh.flush()
@@ -337,6 +349,13 @@ class ResultFile:
     ``dims(name)`` the dimension name of each axis ('' where none); ``attrs(name)`` its attributes (text
     decoded) and ``file_attrs`` the file's; ``read(name, index)`` its values (all, or ``index``).
     """
+
+    def __new__(cls, path):
+        from .zarr_store import ZarrReader, is_zarr_location
+
+        if is_zarr_location(path):                # the same reading methods on a zarr store
+            return ZarrReader(path)
+        return super().__new__(cls)
 
     def __init__(self, path: Path):
         self.path = Path(path)
@@ -438,8 +457,7 @@ class BlockWriter:
             block, arrays, buf = item
             try:
                 if self.error is None:
-                    self.part_file.write(block.slab, arrays)
-                    self.part_file.mark_done(block.index)
+                    self.part_file.write_block(block, arrays)
                     if self.on_written is not None:
                         self.on_written(block)
             except BaseException as err:  # handed to the caller's thread
@@ -525,6 +543,77 @@ def _repack(src: Path, dst: Path, compression: str, blocks, big: list[str]) -> N
         for name in big:
             for b in blocks:
                 fo[name][b.slab] = fi[name][b.slab]
+
+
+class Hdf5Store:
+    """One HDF5 file as the runner (runner.py) sees a store: a working ``OUT.h5.part`` renamed to ``OUT.h5``
+    when finished. Its twin for zarr stores is zarr_store.ZarrStore."""
+
+    format = "hdf5"
+
+    def __init__(self, output):
+        self.out = Path(output)
+        self.part = part_path(self.out)
+
+    @property
+    def part_name(self) -> str:
+        return str(self.part)
+
+    def result(self) -> Path:
+        return self.out.absolute()
+
+    def check(self, compression: str) -> None:
+        check_output_path(self.out)
+        if compression not in HDF5_COMPRESSIONS:
+            raise ValueError(f"compression = {compression!r} is for zarr stores; an HDF5 file takes one of "
+                             f"{', '.join(HDF5_COMPRESSIONS)}")
+
+    def check_space(self, n_bytes: int, what: str) -> None:
+        check_disk_space(self.out, n_bytes, what)
+
+    def lock(self) -> "RunLock":
+        return RunLock(self.out)
+
+    def unfinished(self) -> bool:
+        return self.part.exists()
+
+    def prepare(self, fingerprint: str, resume: bool, overwrite: bool) -> str:
+        """'new', 'resume' or 'done' (complete, same config, resume asked); see prepare_output."""
+        _, _, resuming = prepare_output(self.out, fingerprint, resume, overwrite)
+        if resume and not self.part.exists():
+            return "done"
+        return "resume" if resuming else "new"
+
+    def all_done(self) -> bool:
+        """The working file was marked complete (a run killed while finishing)."""
+        return is_complete(self.part)
+
+    def tasks(self, blocks, shape):
+        return blocks
+
+    def create(self, case_dims, extra_dims, scalars, variables, attrs, blocks, tasks, compression,
+               aux_coords=()) -> None:
+        create(self.part, case_dims, extra_dims, scalars, variables, attrs, len(tasks), aux_coords)
+
+    def open_part(self) -> PartFile:
+        return PartFile(self.part)
+
+    def worker_sink(self):
+        """None: Dask workers send their blocks back and this process writes them (one HDF5 writer)."""
+        return None
+
+    def finished_blocks(self) -> int:
+        return finished_blocks(self.part)
+
+    def finish(self, compression: str, blocks, attrs: dict, variables: list[str]) -> None:
+        finish(self.part, self.out, compression, blocks, attrs, variables)
+
+
+def store_for(output):
+    """The store an output names: a zarr store for ``*.zarr`` and URLs, else an HDF5 file."""
+    from .zarr_store import ZarrStore, is_zarr_location
+
+    return ZarrStore(output) if is_zarr_location(output) else Hdf5Store(output)
 
 
 class RunLock:

@@ -107,7 +107,8 @@ def parse_at(text: str) -> dict[str, float]:
 
 def read_source(path, case: int | None = None, at: dict | None = None, bearing: str | int | None = None,
                 system: bool = False) -> Source:
-    """Kb from ``fastbearing solve --json`` / ``shaft --json`` output (.json) or a finished .h5 file.
+    """Kb from ``fastbearing solve --json`` / ``shaft --json`` output (.json), a finished .h5 file or a
+    finished zarr store (a .zarr folder or URL).
 
     ``case`` picks one case (flat index) of a .h5 map or table, ``at`` the grid point nearest to
     given coordinates (e.g. {"Fx": 1000.0, "Fz": 3000.0, "My": 0.0}: every varying axis, values in the
@@ -121,14 +122,19 @@ def read_source(path, case: int | None = None, at: dict | None = None, bearing: 
     list), ``system`` the shaft's K_system at the reference point; one of the two is required there, and
     both are refused for any other source.
     """
-    path = Path(path)
-    if not path.is_file():
+    from ..jobs.zarr_store import is_zarr_location
+
+    store = is_zarr_location(path)                 # a zarr store: a folder, or a URL
+    path = Path(path) if not (store and "://" in str(path)) else path
+    if not store and not path.is_file():
         raise ValueError(f"file not found: {path}" if not path.exists() else f"{path} is not a file")
+    if store and isinstance(path, Path) and not path.is_dir():
+        raise ValueError(f"zarr store not found: {path}")
     if case is not None and at is not None:
         raise ValueError("give --case or --at, not both")
     if bearing is not None and system:
         raise ValueError("give --bearing or --system, not both")
-    suffix = path.suffix.lower()
+    suffix = ".zarr" if store else path.suffix.lower()
     if suffix == ".json":
         if case is not None or at is not None:
             raise ValueError(f"--{'case' if case is not None else 'at'} picks a case of a .h5 map or table; "
@@ -148,11 +154,11 @@ def read_source(path, case: int | None = None, at: dict | None = None, bearing: 
                              f"`shaft --json` output; {path.name} is a single bearing's (solve --json)")
         K = _matrix_field(body["K"], f"{path.name}: K")
         return Source(K, [status], {k: body[k] for k in ("q", "f", "status") if k in body})
-    if suffix not in (".h5", ".hdf5"):
-        raise ValueError(f"SOURCE must be a .json or .h5 file, got {path.name!r}")
+    if suffix not in (".h5", ".hdf5", ".zarr"):
+        raise ValueError(f"SOURCE must be a .json or .h5 file or a .zarr store, got {path.name!r}")
     if bearing is not None or system:
         raise ValueError(f"--{'bearing' if bearing is not None else 'system'} picks a matrix of a "
-                         f"`shaft --json` output; {path.name} is a map or table of one bearing")
+                         f"`shaft --json` output; {Path(str(path)).name} is a map or table of one bearing")
     from ..jobs.storage import COMPLETE, ResultFile
 
     with ResultFile(path) as rf:

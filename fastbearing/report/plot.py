@@ -296,10 +296,12 @@ def _dataset(source, kind: str):
     if hasattr(source, "data_vars"):
         ds, opened = source, False
     else:
-        path = Path(source)
-        if not path.exists():
-            raise ValueError(f"{path}: file not found")
         from ..jobs.loadmap import open_dataset
+        from ..jobs.zarr_store import is_zarr_location
+
+        path = source if "://" in str(source) else Path(source)
+        if not is_zarr_location(path) and not path.exists() or isinstance(path, Path) and not path.exists():
+            raise ValueError(f"{path}: file not found")
 
         ds, opened = open_dataset(path), True  # ValueError if it is not a finished fastbearing file
     try:
