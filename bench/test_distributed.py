@@ -28,7 +28,8 @@ def client():
 def test_engine_overhead(benchmark, tmp_path, client, engine):
     doc = tomllib.loads(EXAMPLE.read_text())
     kw = {"client": client} if engine == "dask" else {"threads": 2}
-    warm = {**doc, "loadmap": {**doc["loadmap"], "Fx": {**doc["loadmap"]["Fx"], "num": 2}}}
+    # small blocks, so that every worker gets some and loads the kernels before the timed run
+    warm = {**doc, "loadmap": {**doc["loadmap"], "Fx": {**doc["loadmap"]["Fx"], "num": 2}, "chunk": 990}}
     fb.loadmap(warm, tmp_path / "warm.h5", progress=False, **kw)  # compile / load kernels everywhere
     counter = iter(range(10))
     benchmark.pedantic(lambda: fb.loadmap(doc, tmp_path / f"{engine}{next(counter)}.h5", progress=False, **kw),

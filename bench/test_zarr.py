@@ -1,0 +1,58 @@
+"""Zarr stores written by the workers (issue 38): the 1M-case example into a zarr store locally, and on Dask
+with 1 and with 2 single-threaded workers (the workers write their own blocks); beside them today's funnel
+(workers send their arrays back, the client writes HDF5). Same machine, same process; ratios, not times.
+
+extra_info: ``wall_vs_1_worker`` (2 workers against 1, the target is <= 0.6) and ``client_bytes_per_case``
+(bytes of results the client received per case: 0.03 with zarr, ~345 through the HDF5 funnel).
+"""
+
+import tomllib
+from pathlib import Path
+
+import pytest
+
+import fastbearing as fb
+
+pytest.importorskip("distributed")
+pytest.importorskip("zarr")
+EXAMPLE = Path(__file__).resolve().parents[1] / "data" / "examples" / "gunduz2013-db-1M.toml"
+N_CASES = 999_900
+_times = {}
+
+
+@pytest.fixture(scope="module")
+def clusters():
+    from fastbearing.jobs.distributed import client_for
+
+    made = {n: client_for(f"local:{n}") for n in (1, 2)}
+    yield {n: client for n, (client, _) in made.items()}
+    for client, cluster in made.values():
+        client.close()
+        cluster.close()
+
+
+@pytest.mark.parametrize("engine", ["local zarr", "dask 1 worker zarr", "dask 2 workers zarr",
+                                    "dask 2 workers hdf5 (funnel)"])
+@pytest.mark.benchmark(group="1M-case example: zarr written by the workers")
+def test_zarr_scale_out(benchmark, tmp_path, clusters, engine):
+    doc = tomllib.loads(EXAMPLE.read_text())
+    kw = {"threads": 1} if engine.startswith("local") else {"client": clusters[1 if "1 worker" in engine else 2]}
+    suffix = ".h5" if "hdf5" in engine else ".zarr"
+    # small blocks, so that every worker gets some and loads the kernels before the timed run
+    warm = {**doc, "loadmap": {**doc["loadmap"], "Fx": {**doc["loadmap"]["Fx"], "num": 2}, "chunk": 990}}
+    fb.loadmap(warm, tmp_path / f"warm{suffix}", progress=False, **kw)   # load the kernels everywhere
+    counter = iter(range(10))
+    outs = []
+
+    def run():
+        outs.append(fb.loadmap(doc, tmp_path / f"run{next(counter)}{suffix}", progress=False, **kw))
+
+    benchmark.pedantic(run, rounds=3, iterations=1)
+    attrs = fb.open_map(outs[-1]).attrs
+    if "dask_bytes_received" in attrs:
+        benchmark.extra_info["client_bytes_per_case"] = int(attrs["dask_bytes_received"]) / N_CASES
+    if not benchmark.disabled:  # --benchmark-disable: a smoke run, no figures
+        _times[engine] = benchmark.stats.stats.median
+        benchmark.extra_info["cases_per_s"] = N_CASES / _times[engine]
+        if engine == "dask 2 workers zarr" and "dask 1 worker zarr" in _times:
+            benchmark.extra_info["wall_vs_1_worker"] = _times[engine] / _times["dask 1 worker zarr"]
