@@ -2,6 +2,7 @@
 when a worker is killed mid-run, and resumable."""
 
 import importlib
+import importlib.util
 import os
 import signal
 import threading
@@ -104,10 +105,19 @@ def test_passage_table_on_dask_equals_local(client, tmp_path):
              "num": 12}, "Fz": [500.0, 2000.0], "positions": 32, "chunk": 4}}
     local = fb.passage(table, tmp_path / "local.h5", progress=False)
     remote = fb.passage(table, tmp_path / "dask.h5", progress=False, client=client, max_in_flight=2)
+    names = (*VARIABLES, "K_mean", "K_amplitude", "K_phase", "K_variation")
     with h5py.File(local, "r") as fa, h5py.File(remote, "r") as fb_:
-        for name in (*VARIABLES, "K_mean", "K_amplitude", "K_phase", "K_variation"):
+        for name in names:
             np.testing.assert_array_equal(fa[name][...], fb_[name][...], err_msg=name)
         assert fb_.attrs["engine"] == "dask"
+    if importlib.util.find_spec("zarr") is not None:        # and into a zarr store, written by the workers
+        import zarr
+
+        store = zarr.open_group(str(fb.passage(table, tmp_path / "dask.zarr", progress=False, client=client)), mode="r")
+        with h5py.File(local, "r") as fa:
+            for name in names:
+                np.testing.assert_array_equal(store[name][...], fa[name][...], err_msg=name)
+        assert store.attrs["dask_written_by"] == "workers"
 
 
 def test_cli_dask_flag(tmp_path):
