@@ -57,11 +57,10 @@ BIG = {"bearing": CONFIG["bearing"], "loadmap": {**CONFIG["loadmap"], "Fx": {"st
                                                                                "num": 80}}}
 
 
-def test_killed_worker_blocks_are_recomputed(client, tmp_path):
-    """SIGKILL a worker process while it holds blocks: the scheduler recomputes them (on the
-    survivor or the restarted worker) and the file is still identical to a local run. The kill
-    waits for the worker to be processing a block, not for a time, so it cannot miss the run."""
-    reference = fb.loadmap(BIG, tmp_path / "reference.h5", progress=False)
+def killing_a_busy_worker(client, run):
+    """``run()`` while a watcher SIGKILLs the first worker seen processing a block (it waits for a busy
+    worker, not for a time, so it cannot miss the run); returns run()'s result once the nanny has
+    restarted the worker."""
     pids = client.run(os.getpid)                               # worker address -> pid
     killed, finished = [], threading.Event()
 
@@ -77,13 +76,22 @@ def test_killed_worker_blocks_are_recomputed(client, tmp_path):
     watcher = threading.Thread(target=kill_a_busy_worker)
     watcher.start()
     try:
-        out = fb.loadmap(BIG, tmp_path / "killed.h5", progress=False, client=client, max_in_flight=4)
+        out = run()
     finally:
         finished.set()
         watcher.join()
     assert killed, "no worker was ever seen processing a block"
-    assert_identical(out, reference)
     client.wait_for_workers(2, timeout=60)  # the nanny restarts the killed worker
+    return out
+
+
+def test_killed_worker_blocks_are_recomputed(client, tmp_path):
+    """SIGKILL a worker process while it holds blocks: the scheduler recomputes them (on the
+    survivor or the restarted worker) and the file is still identical to a local run."""
+    reference = fb.loadmap(BIG, tmp_path / "reference.h5", progress=False)
+    out = killing_a_busy_worker(client, lambda: fb.loadmap(BIG, tmp_path / "killed.h5", progress=False,
+                                                           client=client, max_in_flight=4))
+    assert_identical(out, reference)
 
 
 def test_resume_through_dask(client, local_map, tmp_path):
@@ -187,28 +195,9 @@ def test_a_killed_workers_zarr_block_is_redone(client, tmp_path):
     written again, and the store equals a local run."""
     pytest.importorskip("zarr")
     reference = fb.loadmap(BIG, tmp_path / "reference.h5", progress=False)
-    pids = client.run(os.getpid)
-    killed, finished = [], threading.Event()
-
-    def kill_a_busy_worker():
-        while not finished.is_set():
-            busy = [addr for addr, keys in client.processing().items() if keys and addr in pids]
-            if busy:
-                os.kill(pids[busy[0]], signal.SIGKILL)
-                killed.append(busy[0])
-                return
-            time.sleep(0.005)
-
-    watcher = threading.Thread(target=kill_a_busy_worker)
-    watcher.start()
-    try:
-        out = fb.loadmap(BIG, tmp_path / "killed.zarr", progress=False, client=client, max_in_flight=4)
-    finally:
-        finished.set()
-        watcher.join()
-    assert killed, "no worker was ever seen processing a block"
+    out = killing_a_busy_worker(client, lambda: fb.loadmap(BIG, tmp_path / "killed.zarr", progress=False,
+                                                           client=client, max_in_flight=4))
     _assert_store_equals(out, reference)
-    client.wait_for_workers(2, timeout=60)
 
 
 def test_a_killed_client_resumes_the_zarr_store(client, tmp_path):
