@@ -137,21 +137,24 @@ def build_parser() -> argparse.ArgumentParser:
     b.add_argument("--load", metavar="Fx,Fy,Fz,Mx,My", help="with --speed: use the loaded contact angle at this load "
                    "on the inner ring (N, N, N, N*mm, N*mm; the mean over the loaded balls of a quasi-static solve) "
                    "instead of the nominal one")
-    m = sub.add_parser("loadmap", help="Kb over a grid or table of loads or displacements, to HDF5",
+    m = sub.add_parser("loadmap", help="Kb over a grid or table of loads or displacements, to HDF5 or zarr",
                        description=(
                            "Compute a load map: Kb (and q, f, status, load distribution) at every case of the "
                            "[loadmap] grid of CONFIG.toml, streamed block by block into an HDF5 file that "
-                           "xarray opens (engine h5netcdf). Units: N, mm, rad; moments N*mm. An interrupted run "
-                           "(Ctrl-C, kill) keeps its finished blocks in OUT.h5.part: continue with --resume."))
+                           "xarray opens (engine h5netcdf), or into a zarr v3 store (-o OUT.zarr or a URL; "
+                           "xarray.open_zarr). Units: N, mm, rad; moments N*mm. An interrupted run "
+                           "(Ctrl-C, kill) keeps its finished blocks (in OUT.h5.part, or in the store): continue "
+                           "with --resume."))
     m.add_argument("config", metavar="CONFIG.toml", help="config with [bearing] and [loadmap] tables")
     _add_job_arguments(m)
-    p = sub.add_parser("passage", help="ball-passage (time-varying) stiffness tables, to HDF5 (and CSV)",
+    p = sub.add_parser("passage", help="ball-passage (time-varying) stiffness tables, to HDF5 or zarr (and CSV)",
                        description=(
                            "Rotate the ball set through one ball-pass period and tabulate Kb (and q) at every "
                            "cage position for each operating point of the [passage] table of CONFIG.toml, with the "
                            "mean, min, max, peak-to-peak variation (% of mean) and Fourier harmonics of every "
-                           "entry. Units: N, mm, rad; time s; frequency Hz. An interrupted run (Ctrl-C, kill) keeps "
-                           "its finished blocks in OUT.h5.part: continue with --resume."))
+                           "entry, into an HDF5 file or a zarr v3 store (-o OUT.zarr or a URL). Units: N, mm, rad; "
+                           "time s; frequency Hz. An interrupted run (Ctrl-C, kill) keeps its finished blocks (in "
+                           "OUT.h5.part, or in the store): continue with --resume."))
     p.add_argument("config", metavar="CONFIG.toml", help="config with [bearing] and [passage] tables")
     _add_job_arguments(p)
     p.add_argument("--csv", action="store_true", help="also write OUT_point0000.csv ... (one per operating "
