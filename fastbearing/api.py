@@ -25,6 +25,7 @@ from .config import METHODS, NEWTON
 from . import boundary
 from .engine.solver import WORK_ROWS, SolverSettings, solve_case
 from .engine.sweep import solve_sweep, stiffness_sweep
+from .engine.device import DEVICES
 
 
 
@@ -369,7 +370,7 @@ class SolveManyResult:
 
 
 def solve_many(bearing: Bearing, f, q0=None, method: str = "newton", rtol=None, max_iter=None,
-               threads=None, speed=0.0, fixed=None) -> SolveManyResult:
+               threads=None, speed=0.0, fixed=None, device: str = "cpu") -> SolveManyResult:
     """Solve many independent load cases in parallel.
 
     Parameters
@@ -385,6 +386,11 @@ def solve_many(bearing: Bearing, f, q0=None, method: str = "newton", rtol=None, 
     fixed : dict, optional
         Degrees of freedom given as displacements, as in :func:`solve`; a value may be one number or N
         (one per case). f's entries there must be 0; the result's f holds the reactions.
+    device : {"cpu", "cuda"}
+        Where the cases run (default "cpu"). "cuda": the same kernels compiled for the GPU by numba-cuda,
+        one case per GPU thread (fastbearing.engine.gpu; ``threads`` is then ignored); the results agree
+        with the CPU's to rounding. Without numba-cuda, a CUDA driver or a GPU:
+        fastbearing.engine.device.CudaUnavailable (a RuntimeError) naming what is missing.
 
     ``bearing``, ``method``, ``rtol`` and ``max_iter`` are as in :func:`solve`.
     Results do not depend on the thread count.
@@ -402,6 +408,7 @@ def solve_many(bearing: Bearing, f, q0=None, method: str = "newton", rtol=None, 
         :func:`solve` (and when ``q0`` has another number of cases than ``f``).
     """
     bearing = _check_bearing(bearing)
+    device = validate.choice(device, "device", DEVICES)
     loads = as_cases(f, "f", "Fx, Fy, Fz in N; Mx, My in N*mm")
     n = loads.shape[0]
     held = boundary.parse_fixed(fixed, n)
@@ -417,6 +424,12 @@ def solve_many(bearing: Bearing, f, q0=None, method: str = "newton", rtol=None, 
         q = np.zeros((n, 5))
     out = SolveManyResult(q, np.empty((n, 5)), np.empty((n, 5, 5)), np.empty(n, np.int8), np.empty(n, np.int32),
                           np.empty(n), np.empty(n, np.int32))
+    if device == "cuda":
+        from .engine.gpu import solve_sweep_cuda  # numba.cuda is imported only here
+
+        solve_sweep_cuda(f_targets, out.q, out.f, out.K, out.status, out.iterations, out.residual,
+                         out.evaluations, balls, speeds, opts, warm)
+        return out
     with num_threads(threads):
         solve_sweep(f_targets, out.q, out.f, out.K, out.status, out.iterations, out.residual, out.evaluations,
                     balls, speeds, opts, warm, config.SWEEP_BLOCK)

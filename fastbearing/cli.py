@@ -147,6 +147,9 @@ def build_parser() -> argparse.ArgumentParser:
                            "with --resume."))
     m.add_argument("config", metavar="CONFIG.toml", help="config with [bearing] and [loadmap] tables")
     _add_job_arguments(m)
+    m.add_argument("--device", choices=("cpu", "cuda"), default="cpu",
+                   help="where the blocks are computed: cpu (default, all cores) or cuda (one NVIDIA GPU, the same "
+                   "kernels through numba-cuda; needs pip install 'fastbearing[cuda]')")
     p = sub.add_parser("passage", help="ball-passage (time-varying) stiffness tables, to HDF5 or zarr (and CSV)",
                        description=(
                            "Rotate the ball set through one ball-pass period and tabulate Kb (and q) at every "
@@ -562,7 +565,7 @@ def _export(args) -> int:
 def _loadmap(args) -> int:
     from .jobs.loadmap import loadmap
 
-    return _run_job(loadmap, args)
+    return _run_job(loadmap, args, device=args.device)
 
 
 def _bearing(args):
@@ -835,6 +838,13 @@ def main(argv=None) -> int:
     except (_UsageError, ValueError) as err:
         print(f"fastbearing: error: {err}" if not str(err).startswith("fastbearing") else str(err),
               file=sys.stderr)
+        return EXIT_USAGE
+    except RuntimeError as err:
+        from .engine.device import CudaUnavailable  # loads no numba
+
+        if not isinstance(err, CudaUnavailable):
+            raise
+        print(f"fastbearing: error: {err}", file=sys.stderr)   # --device cuda without numba-cuda, driver or GPU
         return EXIT_USAGE
 
 

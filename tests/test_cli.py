@@ -181,3 +181,22 @@ def test_the_bearing_report_is_reachable_from_python_and_gives_the_speed_limit()
         assert body == _json.loads(_json.dumps(fb.bearing_report(b)))
         assert ("speed_limit" in body) == (name != "NU205.toml")
     assert fb.bearing_report(fb.load_bearing(data / "7014C-DB.toml"))["speed_limit"] == pytest.approx(134291.28, rel=1e-6)
+
+
+def test_loadmap_device_cuda_without_a_gpu_is_one_line_exit_2(tmp_path):
+    """--device cuda where no GPU can run (here: numba-cuda without a driver) is one line and exit 2, and
+    nothing is created."""
+    import os
+
+    pytest.importorskip("numba_cuda")
+    cfg = tmp_path / "m.toml"
+    cfg.write_text('[bearing]\npreset = "gunduz2013"\narrangement = "DB"\n[loadmap]\nFx = [0.0, 500.0]\nFz = 1000.0\n')
+    run = subprocess.run([*CLI, "loadmap", str(cfg), "-o", str(tmp_path / "m.h5"), "--device", "cuda"],
+                         capture_output=True, text=True,
+                         env={k: v for k, v in os.environ.items() if k != "NUMBA_ENABLE_CUDASIM"})
+    if run.returncode == 0:
+        pytest.skip("a GPU is present")
+    assert run.returncode == 2
+    lines = run.stderr.strip().splitlines()
+    assert len(lines) == 1 and "device 'cuda'" in lines[0], run.stderr
+    assert not (tmp_path / "m.h5").exists()

@@ -232,3 +232,23 @@ def test_compressed_store_equals(reference, tmp_path):
     a, b = fb.open_map(reference), fb.open_map(out)
     for name in ("q", "K", "status", "L10r"):
         np.testing.assert_array_equal(a[name].values, b[name].values)
+
+
+@pytest.mark.parametrize("suffix", [".h5", ".zarr"])
+def test_only_some_variables_in_float32(reference, tmp_path, suffix):
+    """``variables = ["K"]`` and ``dtype = "float32"``: the file keeps K (and status, always) in float32, equal
+    to the full map's values rounded to float32, and is a third of the size; unknown names are refused."""
+    small = {**CONFIG, "loadmap": {**CONFIG["loadmap"], "variables": ["K"], "dtype": "float32"}}
+    out = fb.loadmap(small, tmp_path / f"k{suffix}", progress=False)
+    ds, full = fb.open_map(out), fb.open_map(reference)
+    assert set(ds.data_vars) == {"K", "status"}
+    assert ds["K"].dtype == np.float32 and ds.attrs["result_dtype"] == "float32"
+    assert ds.attrs["stored_variables"] == "K, status"
+    np.testing.assert_array_equal(ds["K"].values, full["K"].values.astype(np.float32))
+    np.testing.assert_array_equal(ds["status"].values, full["status"].values)
+    bad = {**CONFIG, "loadmap": {**CONFIG["loadmap"], "variables": ["K", "Kxx"]}}
+    with pytest.raises(ValueError, match="'Kxx' is not .*variables of this map; it has q, f, K"):
+        fb.loadmap(bad, tmp_path / f"bad{suffix}", progress=False)
+    with pytest.raises(ValueError, match="loadmap.dtype"):
+        fb.loadmap({**CONFIG, "loadmap": {**CONFIG["loadmap"], "dtype": "float16"}}, tmp_path / f"b{suffix}",
+                   progress=False)

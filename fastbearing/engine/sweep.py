@@ -8,7 +8,9 @@ thread ran it.
 import math
 
 import numpy as np
+from llvmlite import ir
 from numba import njit, prange, types
+from numba.core.cpu import CPUContext
 from numba.extending import intrinsic, overload
 
 from ..config import CACHE, ERROR_MODEL, REFCOUNT
@@ -29,7 +31,10 @@ def _load_flag(typingctx, flag):
 
     def codegen(context, builder, signature, args):
         data = context.make_array(signature.args[0])(context, builder, args[0]).data
-        return builder.load_atomic(data, "monotonic", 8)
+        if isinstance(context, CPUContext):
+            return builder.load_atomic(data, "monotonic", 8)
+        # NVVM (numba-cuda's target, engine/gpu.py) rejects an atomic load: an atomic add of 0 reads it as atomically
+        return builder.atomic_rmw("add", data, ir.Constant(ir.IntType(64), 0), "monotonic")
 
     return types.int64(flag), codegen
 
@@ -54,10 +59,17 @@ def _at_speed(balls, speeds, i, warm, fresh):
         return lambda balls, speeds, i, warm, fresh: balls
 
     def spinning(balls, speeds, i, warm, fresh):
-        if fresh:
-            forget_warm(warm)
+        # one basic block, the branch in a call: numba-cuda cannot inline an overload whose body branches
+        forget_if(warm, fresh)
         return at_position(balls, balls.balls, balls.slices, speeds[i], warm, balls.speed_table)
     return spinning
+
+
+@njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
+def forget_if(warm, fresh):
+    """:func:`forget_warm` (the balls' warm starts dropped) when ``fresh``, else nothing."""
+    if fresh:
+        forget_warm(warm)
 
 
 @njit(parallel=True, cache=CACHE, error_model=ERROR_MODEL)
@@ -256,10 +268,10 @@ def operating_point(given_load, inputs, warm, q, f, K, balls, settings, work, ba
 def substitution_status(f, K):
     """CONVERGED for a finite f and Kb from direct substitution, NONFINITE_RESULT otherwise."""
     for i in range(5):
-        if not np.isfinite(f[i]):
+        if not math.isfinite(f[i]):
             return NONFINITE_RESULT
         for j in range(5):
-            if not np.isfinite(K[i, j]):
+            if not math.isfinite(K[i, j]):
                 return NONFINITE_RESULT
     return CONVERGED
 
@@ -311,7 +323,7 @@ def tangent_predictor(given_load, target, q_prev, f_prev, K_prev, q, scratch, fi
     if not stiffness_solve(K_step, 0.0, rhs, step, scratch[_FACTOR:_PERM], scratch[_PERM]):
         return False
     for d in range(5):
-        if not np.isfinite(step[d]):
+        if not math.isfinite(step[d]):
             return False
     for d in range(5):
         q[d] += step[d]

@@ -26,24 +26,24 @@ import os
 import numpy as np
 
 
-def _worker_block(compute, variables, sizes, inputs, first):
-    """Runs on a worker: one block with one numba thread; returns the result arrays."""
+def _worker_block(job, inputs, first):
+    """Runs on a worker: one block with one numba thread; returns the result arrays the file keeps."""
     import numba
 
     from .storage import allocate
 
     numba.set_num_threads(1)
-    res = allocate(variables, sizes, inputs.shape[0])
-    compute(inputs, res, first, np.zeros(1, np.int64))  # Ctrl-C is the client's: it cancels the futures
-    return res
+    res = allocate(list(job.variables), job.sizes, inputs.shape[0])
+    job.compute(inputs, res, first, np.zeros(1, np.int64))  # Ctrl-C is the client's: it cancels the futures
+    return job.kept(res)
 
 
-def _worker_block_to_store(compute, cases, variables, sizes, block, sink):
+def _worker_block_to_store(job, block, sink):
     """Runs on a worker: computes one block from the job's cases and writes it into the zarr store itself;
     returns only the block's status counts."""
     from .zarr_store import write_on_worker
 
-    res = _worker_block(compute, variables, sizes, cases.inputs(block.start, block.stop), block.start)
+    res = _worker_block(job, job.cases.inputs(block.start, block.stop), block.start)
     return write_on_worker(sink, block, res)
 
 
@@ -90,11 +90,9 @@ def run_blocks(client, job, pending, part, sink, on_written, interrupt, max_in_f
 
     threads = _worker_threads(client)
     limit = 2 * threads if max_in_flight is None else max_in_flight
-    compute = client.scatter(job.compute, broadcast=True)     # the bearing and settings travel once
-    # the cases travel once too where workers write (a grid's axes; a case table whole)
-    cases = client.scatter(job.cases, broadcast=True) if sink is not None else None
+    # the job (bearing, settings, the cases: a grid's axes or a case table) travels once to every worker
+    shipped = client.scatter(job, broadcast=True)
     writer = _Tally(on_written) if sink is not None else BlockWriter(part, [object() for _ in range(4)], on_written)
-    variables = list(job.variables)
     queue = iter(pending)
     futures = {}
     retries = {}
@@ -106,12 +104,10 @@ def run_blocks(client, job, pending, part, sink, on_written, interrupt, max_in_f
             return None
         key = f"fastbearing-block-{block.index}-{os.getpid()}-{retries.get(block.index, 0)}"
         if sink is not None:
-            future = client.submit(_worker_block_to_store, compute, cases, variables, job.sizes, block, sink,
-                                   pure=False, key=key)
+            future = client.submit(_worker_block_to_store, shipped, block, sink, pure=False, key=key)
         else:
             inputs = job.cases.inputs(block.start, block.stop)
-            future = client.submit(_worker_block, compute, variables, job.sizes, inputs, block.start, pure=False,
-                                   key=key)
+            future = client.submit(_worker_block, shipped, inputs, block.start, pure=False, key=key)
         futures[future] = block
         return future
 
@@ -132,9 +128,7 @@ def run_blocks(client, job, pending, part, sink, on_written, interrupt, max_in_f
                 retries[block.index] = retries.get(block.index, 0) + 1
                 if retries[block.index] > MAX_RESUBMITS:
                     raise
-                compute = client.scatter(job.compute, broadcast=True)  # its copy may have gone too
-                if sink is not None:
-                    cases = client.scatter(job.cases, broadcast=True)
+                shipped = client.scatter(job, broadcast=True)  # its copy may have gone too
                 running.add(submit_next(block))
                 continue
             future.release()

@@ -29,11 +29,13 @@ from .grid import Axis, CaseSet, fixed_mask, input_axes, parse_axis, read_case_f
 from .runner import open_dataset  # noqa: F401 (public: fb.open_dataset)
 from ..analysis.life import LifeSettings, iso_life, life_table, ratings
 from ..engine.sweep import map_sweep
+from ..engine.device import DEVICES, require_cuda
 
 DEFAULT_CHUNK = 65536
 #: Largest block: one block's results are in memory at once (about 400 bytes a case).
 MAX_CHUNK = 4_000_000
-_LOADMAP_KEYS = {"given", "cases", "chunk", "compression", "method", "rtol", "max_iter", "life", "speed", "fixed"}
+_LOADMAP_KEYS = {"given", "cases", "chunk", "compression", "method", "rtol", "max_iter", "life", "speed", "fixed",
+                 "variables", "dtype"}
 
 
 @dataclass(frozen=True)
@@ -53,6 +55,9 @@ class LoadMapConfig:
     life: LifeSettings | None = None
     #: Degrees of freedom given as displacements (boundary.Fixed.mask; 0: every load given).
     fixed: int = 0
+    #: The variables the file keeps (None: all; status always), and the dtype of its real-valued ones.
+    variables: tuple[str, ...] | None = None
+    dtype: str = "float64"
 
 
 def read_life(spec, where: str) -> LifeSettings | None:
@@ -124,13 +129,21 @@ def read_config(config) -> LoadMapConfig:
     life_settings = read_life(spec.get("life"), "loadmap.life")
     if life_settings is not None:
         ratings(bearing)  # a bearing without geometry has no rating: said before anything runs
+    stored = None
+    if "variables" in spec:
+        names_given = validate.array(spec["variables"], "loadmap.variables", min_length=1)
+        if not all(isinstance(n, str) for n in names_given):
+            raise validate.FieldError("loadmap.variables", "must be a list of variable names, e.g. [\"K\"]",
+                                      spec["variables"])
+        stored = tuple(dict.fromkeys(names_given))    # checked against the map's variables by job()
+    dtype = validate.choice(spec.get("dtype", "float64"), "loadmap.dtype", jobs.RESULT_DTYPES)
     return LoadMapConfig(bearing, cases, chunk, compression, method, rtol, max_iter, text, source,
-                         digest.hexdigest(), life_settings, fixed)
+                         digest.hexdigest(), life_settings, fixed, stored, dtype)
 
 
 
 def compute_block(bearing: Bearing, given_load: bool, line_length: int, settings, life, spinning: bool,
-                  inputs: np.ndarray, res: dict, first: int, stop: np.ndarray) -> None:
+                  inputs: np.ndarray, res: dict, first: int, stop: np.ndarray, device: str = "cpu") -> None:
     """Fill the result arrays ``res`` (one block's, see :func:`variables`) for ``inputs`` (n, 5), the
     flat cases from ``first`` on; ``stop[0] != 0`` (Ctrl-C) ends it early, leaving the block incomplete.
 
@@ -138,8 +151,12 @@ def compute_block(bearing: Bearing, given_load: bool, line_length: int, settings
     same blocks, which is why their outputs are identical bit for bit.
     ``life``: None, or (LifeSettings, BearingRatings) for the life variables. ``spinning``: some case of
     the map runs above 0 rpm (inputs (n, 6), the speed last): every block takes the high-speed ball set
-    (one compiled sweep for the map; a case at 0 rpm is the quasi-static model exactly).
+    (one compiled sweep for the map; a case at 0 rpm is the quasi-static model exactly). ``device`` "cuda": the
+    block on the GPU (engine.gpu.map_sweep_cuda: the same kernels, one continuation run per GPU thread).
     """
+    sweep = map_sweep
+    if device == "cuda":
+        from ..engine.gpu import map_sweep_cuda as sweep  # numba.cuda is imported only here
     balls, speeds = bearing.ball_set(), np.zeros(0)
     rpm = inputs[:, 5] if inputs.shape[1] == 6 else None
     if inputs.shape[1] == 6:  # the shaft speed (rpm) per case
@@ -158,7 +175,7 @@ def compute_block(bearing: Bearing, given_load: bool, line_length: int, settings
         outer = (res["min_outer_contact_angle"], res["max_outer_contact_angle"])
     else:
         outer = (np.empty((1, bearing.n_rows)), np.empty((1, bearing.n_rows)))
-    map_sweep(inputs, given_load, segments, res["q"], res["f"], res["K"], res["status"], res["iterations"],
+    sweep(inputs, given_load, segments, res["q"], res["f"], res["K"], res["status"], res["iterations"],
               res["residual"], res["max_ball_load"], res["loaded_balls"], res["min_contact_angle"],
               res["max_contact_angle"], outer, balls, speeds, ball_row, settings, stop, table, C0, L10r, L10r_row,
               safety)
@@ -183,8 +200,8 @@ def _iso_lives(res: dict, r, rpm) -> None:
                 res["L10_hours"][...] = np.where(per_hour > 0, res["L10"] / np.maximum(per_hour, 1e-300), np.inf)
 
 
-def job(cfg: LoadMapConfig) -> jobs.Job:
-    """The load map as a job for the runner."""
+def job(cfg: LoadMapConfig, device: str = "cpu") -> jobs.Job:
+    """The load map as a job for the runner; ``device`` "cuda" computes its blocks on the GPU."""
     settings = solver_settings(cfg.bearing, cfg.method, cfg.rtol, cfg.max_iter, cfg.fixed)
     given_load = cfg.cases.given == "load"
     variables = storage.result_variables(cfg.cases.given)
@@ -209,22 +226,24 @@ def job(cfg: LoadMapConfig) -> jobs.Job:
         variables=tuple(variables), attrs=attrs,
         sizes={"dof": 5, "dof_col": 5, "row": cfg.bearing.n_rows},
         compute=partial(compute_block, cfg.bearing, given_load, cfg.cases.line_length, settings, life,
-                        cfg.cases.max_speed > 0),
+                        cfg.cases.max_speed > 0, device=device),
         settings=settings, method=cfg.method, chunk=cfg.chunk, text=cfg.text, source=cfg.source,
         fingerprint=cfg.fingerprint, compression=cfg.compression, line_length=cfg.cases.line_length,
-        kernel="engine.sweep.map_sweep")
+        kernel="engine.gpu.map_sweep_cuda" if device == "cuda" else "engine.sweep.map_sweep",
+        stored=jobs.check_stored(cfg.variables, variables, "loadmap.variables"), dtype=cfg.dtype)
 
 
 def loadmap(config, output=None, *, threads=None, resume=False, overwrite=False, progress=None,
-            as_dataset=False, client=None, max_in_flight=None):
-    """Compute a load map and write it to HDF5.
+            as_dataset=False, client=None, max_in_flight=None, device="cpu"):
+    """Compute a load map and write it to HDF5 or a zarr store.
 
     Parameters
     ----------
     config : str, Path or dict
         A TOML config file with ``[bearing]`` and ``[loadmap]`` tables, or the same as a dict.
     output : str or Path, optional
-        Output file (default: the config's name with suffix .h5, in the
+        Output: an HDF5 file, or a zarr v3 store for a name ending in ``.zarr`` or any fsspec URL
+        (``s3://bucket/map.zarr``; jobs/zarr_store.py) (default: the config's name with suffix .h5, in the
         current folder). An existing file is never replaced unless ``overwrite``.
     threads : int, optional
         Numba threads (default: NUMBA_NUM_THREADS). Results do not depend on it.
@@ -241,6 +260,10 @@ def loadmap(config, output=None, *, threads=None, resume=False, overwrite=False,
         the output is identical to a local run.
     max_in_flight : int, optional
         Blocks out on the cluster at once (default: 2 per worker thread).
+    device : {"cpu", "cuda"}
+        Where the blocks are computed (default "cpu"); "cuda": on the GPU with the same kernels (numba-cuda).
+        Without numba-cuda, a CUDA driver or a GPU, fastbearing.engine.device.CudaUnavailable names what is missing
+        before any work is done.
 
     Returns
     -------
@@ -249,6 +272,9 @@ def loadmap(config, output=None, *, threads=None, resume=False, overwrite=False,
     cfg = config if isinstance(config, LoadMapConfig) else read_config(config)
     if as_dataset:
         jobs.require_xarray()
-    out = jobs.run(job(cfg), jobs.output_path(output, cfg.source), threads=threads, resume=resume,
+    device = validate.choice(device, "device", DEVICES)
+    if device == "cuda":
+        require_cuda()
+    out = jobs.run(job(cfg, device), jobs.output_path(output, cfg.source), threads=threads, resume=resume,
                    overwrite=overwrite, progress=progress, client=client, max_in_flight=max_in_flight)
     return open_dataset(out) if as_dataset else out

@@ -375,7 +375,7 @@ def job(cfg: PassageConfig) -> jobs.Job:
 
 def passage(config, output=None, *, threads=None, resume=False, overwrite=False, csv_files=False, progress=None,
             as_dataset=False, client=None, max_in_flight=None):
-    """Compute ball-passage stiffness tables and write them to HDF5 (and optionally CSV).
+    """Compute ball-passage stiffness tables and write them to HDF5 or a zarr store (and optionally CSV).
 
     Runs through the same job runner as a load map: resumable, Ctrl-C safe,
     with a progress bar and an optional Dask cluster.
@@ -431,6 +431,8 @@ def passage(config, output=None, *, threads=None, resume=False, overwrite=False,
     if as_dataset:
         jobs.require_xarray()
     out = jobs.output_path(output, cfg.source)
+    if csv_files and not isinstance(out, Path):
+        raise ValueError(f"csv_files (--csv) writes beside a local output; {out} is a URL")
     csv_paths = [out.with_name(f"{out.stem}_point{i:04d}.csv") for i in range(cfg.cases.n_cases)] if csv_files else []
     existing = [p for p in csv_paths if p.exists()]
     if existing and not overwrite:

@@ -19,6 +19,7 @@ Units: N, mm, rad throughout (see dofs.py).
 
 from __future__ import annotations
 
+import dataclasses
 import errno
 import json
 import signal
@@ -46,6 +47,8 @@ from ..engine.solver import SolverSettings
 
 #: Most blocks a Dask run may have out on the cluster at once.
 MAX_IN_FLIGHT = 10_000
+#: What a job's real-valued results may be stored as (``[loadmap] dtype``): float32 halves a K-only map.
+RESULT_DTYPES = ("float64", "float32")
 
 
 def _disk_full(err: BaseException) -> bool:
@@ -87,9 +90,40 @@ class Job:
     solves_per_case: int = 1                 # e.g. cage positions per operating point
     case_word: str = "case"                  # "case" or "point", in the summary and progress bar
     kernel: str = ""                         # the sweep compute runs, "engine.sweep.map_sweep": to tell of compiling
+    stored: tuple[str, ...] | None = None    # the variables the file keeps (None: all); compute fills them all
+    dtype: str = "float64"                   # the stored dtype of the real-valued variables
+
+    @property
+    def stored_variables(self) -> tuple[storage.Variable, ...]:
+        """The variables as the file holds them: the kept ones, real values in ``dtype``."""
+        out = []
+        for v in self.variables:
+            if self.stored is None or v.name in self.stored:
+                real = v.dtype.startswith("f") and self.dtype == "float32"
+                out.append(dataclasses.replace(v, dtype="f4") if real else v)
+        return tuple(out)
+
+    def kept(self, res: dict) -> dict:
+        """A block's results as the file stores them (the kept variables, cast to their stored dtype)."""
+        if self.stored is None and self.dtype == "float64":
+            return res
+        return {v.name: res[v.name].astype(v.dtype, copy=False) for v in self.stored_variables}
 
     def bytes_needed(self) -> int:
-        return self.cases.n_cases * storage.bytes_per_case(list(self.variables), self.sizes)
+        return self.cases.n_cases * storage.bytes_per_case(list(self.stored_variables), self.sizes)
+
+
+def check_stored(names, variables, where: str) -> tuple[str, ...] | None:
+    """The stored subset ``names`` of ``variables``, with status always kept (a case's outcome travels with its
+    results); ValueError naming the unknown ones and what this job has. None: all."""
+    if names is None:
+        return None
+    have = [v.name for v in variables]
+    unknown = [n for n in names if n not in have]
+    if unknown:
+        raise ValueError(f"{where}: {', '.join(map(repr, unknown))} {'is' if len(unknown) == 1 else 'are'} not "
+                         f"variables of this map; it has {', '.join(have)}")
+    return tuple(n for n in have if n in names or n == "status")
 
 
 # -- result arrays ---------------------------------------------------------------------------------
@@ -141,13 +175,14 @@ def _attributes(job: Job, n_blocks: int) -> dict:
         "bearing": job.bearing.describe(), "bearing_json": json.dumps(job.bearing.to_dict()),
         "solver_method": job.method, "solver_rtol": job.settings.rtol, "solver_max_iter": job.settings.max_iter,
         "chunk": job.chunk, "compression": job.compression, "n_cases": job.cases.n_cases, "n_blocks": n_blocks,
-        **job.attrs, **storage.versions(),
+        **({"stored_variables": ", ".join(v.name for v in job.stored_variables)} if job.stored is not None else {}),
+        "result_dtype": job.dtype, **job.attrs, **storage.versions(),
     }
 
 
 def _create(job: Job, store, blocks, tasks) -> None:
     case_dims, scalars, aux = case_coordinates(job.cases)
-    store.create(case_dims, [*job.own_dims, *_dof_dims(job.bearing)], scalars, list(job.variables),
+    store.create(case_dims, [*job.own_dims, *_dof_dims(job.bearing)], scalars, list(job.stored_variables),
                  _attributes(job, len(tasks)), blocks, tasks, job.compression, [*aux, *job.aux_coords])
 
 
@@ -250,7 +285,7 @@ def run(job: Job, output, *, threads=None, resume=False, overwrite=False, progre
         tasks = store.tasks(blocks, job.cases.shape)
         if state == "resume" and store.all_done():
             # killed while finishing: every block is there, only the finishing step is repeated
-            store.finish(job.compression, tasks, {}, [v.name for v in job.variables])
+            store.finish(job.compression, tasks, {}, [v.name for v in job.stored_variables])
             print(f"fastbearing: finished {output} (all blocks were already computed)", file=sys.stderr)
             return store.result()
         if state == "new":
@@ -301,7 +336,7 @@ def _compute(job: Job, store, blocks, threads, progress, client, max_in_flight) 
     try:
         store.finish(job.compression, blocks, {"wall_time_s": wall, "compile_time_s": watch.seconds,
                      "status_counts": json.dumps({st.describe(c): k for c, k in counts.items()})},
-                     [v.name for v in job.variables])
+                     [v.name for v in job.stored_variables])
     except (OSError, RuntimeError) as err:
         if _disk_full(err):
             if store.format == "hdf5":
@@ -352,7 +387,7 @@ def _run_here(job: Job, pending, writer, interrupt, threads) -> None:
                     # the next block's buffer and inputs before this block goes to the writer, whose HDF5
                     # calls hold the GIL: then the next compute starts at once
                     following = _next(job, pending, k + 1, writer)
-                    writer.submit(block, res, buf)
+                    writer.submit(block, job.kept(res), buf)
                     buf, inputs = following
         except BaseException as err:  # noqa: BLE001 - handed to the main thread
             failure.append(err)

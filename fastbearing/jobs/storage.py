@@ -30,6 +30,7 @@ import numpy as np
 from .. import status as st
 from ..dofs import DISPLACEMENT_UNITS, K_UNITS, LOAD_UNITS
 from ..files import refuse_overwrite
+from .locations import RunLock, check_disk_space, check_folder, human_size  # noqa: F401 (used by the runner too)
 
 COMPLETE = "fastbearing_complete"
 #: Compressions a config may name: HDF5 takes none, lzf, gzip; a zarr store none, gzip, zstd (zarr_store.py).
@@ -138,35 +139,6 @@ def check_output_path(out: Path) -> None:
     if out.is_dir():
         raise ValueError(f"output {out} is a directory; give a file name such as {out / 'map.h5'}")
     check_folder(out)
-
-
-def check_folder(out: Path) -> None:
-    """One-line ValueError unless the folder ``out`` goes into exists and is writable."""
-    folder = out.parent if str(out.parent) else Path(".")
-    if not folder.is_dir():
-        raise ValueError(f"output folder {folder} does not exist (create it first, or choose another -o)")
-    if not os.access(folder, os.W_OK | os.X_OK):
-        raise ValueError(f"output folder {folder} is not writable")
-
-
-def check_disk_space(out: Path, n_bytes: int, what: str) -> None:
-    """Refuse, before creating anything, a file that cannot fit on the output's disk."""
-    import shutil
-
-    folder = out.parent if str(out.parent) else Path(".")
-    free = shutil.disk_usage(folder).free
-    if n_bytes > free:
-        raise ValueError(f"{what} needs about {human_size(n_bytes)} but {folder} has {human_size(free)} free; make the grid "
-                         "smaller or write elsewhere (-o)")
-
-
-def human_size(n: float) -> str:
-    """Bytes as text in SI units: 3.45e8 -> "345 MB"."""
-    for unit in ("B", "kB", "MB", "GB", "TB", "PB"):
-        if n < 1000 or unit == "PB":
-            return f"{n:.3g} {unit}"
-        n /= 1000.0
-    return f"{n:.3g} PB"
 
 
 def bytes_per_case(variables: list[Variable], sizes: dict[str, int]) -> int:
@@ -614,56 +586,6 @@ def store_for(output):
     from .zarr_store import ZarrStore, is_zarr_location
 
     return ZarrStore(output) if is_zarr_location(output) else Hdf5Store(output)
-
-
-class RunLock:
-    """``OUT.h5.lock``, created with O_EXCL and holding the pid: one run per output at a time, whatever
-    HDF5's own file locking does (it is often off on NFS and Lustre). A lock left by a run that no
-    longer exists (killed) is taken over."""
-
-    def __init__(self, output: Path):
-        self.path = output.with_name(output.name + ".lock")
-        self._held = False
-
-    def __enter__(self):
-        for _ in range(2):
-            try:
-                fd = os.open(self.path, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o644)
-            except FileExistsError:
-                pid = self._owner()
-                if pid is not None and _alive(pid):
-                    raise ValueError(f"another run (pid {pid}) is writing {self.path.with_suffix('')}; wait for "
-                                     f"it or stop it (if it is gone, delete {self.path})") from None
-                self.path.unlink(missing_ok=True)        # its run is gone: a stale lock
-                continue
-            with os.fdopen(fd, "w") as fh:
-                fh.write(str(os.getpid()))
-            self._held = True
-            return self
-        raise ValueError(f"cannot take the lock {self.path}; delete it if no run is writing this output")
-
-    def _owner(self) -> int | None:
-        try:
-            return int(self.path.read_text().strip() or "x")
-        except (OSError, ValueError):
-            return None
-
-    def __exit__(self, *exc):
-        if self._held:
-            self.path.unlink(missing_ok=True)
-            self._held = False
-
-
-def _alive(pid: int) -> bool:
-    if pid == os.getpid():
-        return True
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    except PermissionError:
-        return True
-    return True
 
 
 def is_complete(path: Path) -> bool:

@@ -37,7 +37,11 @@ from pathlib import Path
 import numpy as np
 
 from ..files import OutputExists
-from .grid import Block
+from .locations import RunLock, alive, check_disk_space, check_folder
+
+#: The runner's blocks (grid.Block: index, start, stop, slab), named in annotations only: this module makes
+#: none of its own, and grid reads stores (case files), so importing it here would close a circle.
+Block = "grid.Block"
 
 COMPLETE = "fastbearing_complete"
 CREATED = "fastbearing_created"             # set once every array exists: a store cut off while created is not resumed
@@ -158,7 +162,7 @@ def shard_tasks(blocks: list[Block], shape: tuple[int, ...]) -> tuple[list[Block
             slab = last.slab[:d] + (slice(last.slab[d].start, s.stop),) + last.slab[d + 1:]
             tasks[-1] = replace(last, stop=b.stop, slab=slab)
         else:
-            tasks.append(Block(len(tasks), b.start, b.stop, b.slab))
+            tasks.append(replace(b, index=len(tasks)))
     shard = chunk[:d] + (step,) + chunk[d + 1:]
     return tasks, shard
 
@@ -194,8 +198,6 @@ class ZarrStore:
             raise ValueError(f"compression = {compression!r} is HDF5's; a zarr store takes one of "
                              f"{', '.join(COMPRESSIONS)}")
         if self.local is not None:
-            from .storage import check_folder
-
             check_folder(self.local)
             if self.local.exists() and not self.local.is_dir():
                 raise ValueError(f"{self.local} is a file, not a zarr store; choose another -o")
@@ -210,13 +212,9 @@ class ZarrStore:
 
     def check_space(self, n_bytes: int, what: str) -> None:
         if self.local is not None:
-            from .storage import check_disk_space
-
             check_disk_space(self.local, n_bytes, what)
 
     def lock(self):
-        from .storage import RunLock
-
         return RunLock(self.local) if self.local is not None else _UrlLock(self.where)
 
     # -- state
@@ -438,10 +436,8 @@ class _UrlLock:
         me = f"{socket.gethostname()} {os.getpid()}"
         if fs.exists(path):
             owner = fs.cat_file(path).decode(errors="replace").split()
-            from .storage import _alive
-
             mine = len(owner) == 2 and owner[0] == socket.gethostname() and owner[1].isdigit()
-            if not (mine and not _alive(int(owner[1]))):
+            if not (mine and not alive(int(owner[1]))):
                 raise ValueError(f"another run ({' '.join(owner) or 'unknown'}) is writing {self.where[:-5]}; "
                                  f"wait for it or stop it (if it is gone, delete {self.where})")
         fs.pipe_file(path, me.encode())
