@@ -43,36 +43,64 @@ def random_loads(rng, n):
                             rng.uniform(-1e4, 1e4, n), rng.uniform(-1e5, 1e5, n)])
 
 
-def main():
-    rng = np.random.default_rng(36)
-    out = {}
+def scenarios(rng):
+    """Each scenario's name and a function that runs it on both devices (called in this order)."""
     db = fb.Bearing.preset("gunduz2013", "DB")
     F = random_loads(rng, 14)
     F = np.vstack([F, np.zeros(5), [1e-9, 0, 0, 0, 0], [0, 0, -8e4, 0, 0]])  # unloaded, tiny, heavy axial
-    cold = fb.solve_many(db, F)
-    out["cold_ball"] = compare(cold, fb.solve_many(db, F, device="cuda"))
-    q0 = cold.q * (1.0 + 0.01 * rng.standard_normal(cold.q.shape))
-    q0[~np.isfinite(q0)] = 0.0
-    out["warm_ball"] = compare(fb.solve_many(db, F, q0=q0), fb.solve_many(db, F, q0=q0, device="cuda"))
-    Fb = random_loads(rng, 8)
-    out["broyden_fixed"] = compare(fb.solve_many(db, Fb, method="broyden"),
-                                   fb.solve_many(db, Fb, method="broyden", device="cuda"))
-    spindle = fb.load_bearing(DATA / "bearings" / "7014C-DB.toml")
-    Fs = np.column_stack([rng.uniform(0, 1000, 6), np.zeros(6), rng.uniform(100, 2000, 6), np.zeros(6), np.zeros(6)])
-    speeds = np.array([0.0, 6000.0, 12000.0, 18000.0, 24000.0, 9000.0])
-    out["speed_ball"] = compare(fb.solve_many(spindle, Fs, speed=speeds),
-                                fb.solve_many(spindle, Fs, speed=speeds, device="cuda"))
-    taper = fb.load_bearing(DATA / "bearings" / "30206-TDO.toml")
-    Fr = np.column_stack([rng.uniform(-3000, 3000, 8), rng.uniform(-500, 500, 8), rng.uniform(-2000, 2000, 8),
-                          rng.uniform(-2e4, 2e4, 8), rng.uniform(-2e4, 2e4, 8)])
-    out["roller"] = compare(fb.solve_many(taper, Fr), fb.solve_many(taper, Fr, device="cuda"))
-    out["map"] = compare_maps()
+    state = {}
+
+    def cold_ball():
+        state["cold"] = fb.solve_many(db, F)
+        return compare(state["cold"], fb.solve_many(db, F, device="cuda"))
+
+    def warm_ball():
+        cold = state.get("cold") or fb.solve_many(db, F)
+        q0 = cold.q * (1.0 + 0.01 * rng.standard_normal(cold.q.shape))
+        q0[~np.isfinite(q0)] = 0.0
+        return compare(fb.solve_many(db, F, q0=q0), fb.solve_many(db, F, q0=q0, device="cuda"))
+
+    def broyden_fixed():
+        Fb = random_loads(rng, 8)
+        return compare(fb.solve_many(db, Fb, method="broyden"), fb.solve_many(db, Fb, method="broyden", device="cuda"))
+
+    def speed_ball():
+        spindle = fb.load_bearing(DATA / "bearings" / "7014C-DB.toml")
+        Fs = np.column_stack([rng.uniform(0, 1000, 6), np.zeros(6), rng.uniform(100, 2000, 6), np.zeros(6),
+                              np.zeros(6)])
+        speeds = np.array([0.0, 6000.0, 12000.0, 18000.0, 24000.0, 9000.0])
+        return compare(fb.solve_many(spindle, Fs, speed=speeds), fb.solve_many(spindle, Fs, speed=speeds, device="cuda"))
+
+    def roller():
+        taper = fb.load_bearing(DATA / "bearings" / "30206-TDO.toml")
+        Fr = np.column_stack([rng.uniform(-3000, 3000, 8), rng.uniform(-500, 500, 8), rng.uniform(-2000, 2000, 8),
+                              rng.uniform(-2e4, 2e4, 8), rng.uniform(-2e4, 2e4, 8)])
+        return compare(fb.solve_many(taper, Fr), fb.solve_many(taper, Fr, device="cuda"))
+
+    return {"cold_ball": cold_ball, "warm_ball": warm_ball, "broyden_fixed": broyden_fixed, "speed_ball": speed_ball,
+            "roller": roller, "map_ball": lambda: compare_maps("ball"),
+            "map_speed_life": lambda: compare_maps("speed_life")}
+
+
+def main(wanted):
+    """Run the ``wanted`` scenarios (all when empty); print their comparisons and each one's seconds as JSON."""
+    import time
+
+    rng = np.random.default_rng(36)
+    out, seconds = {}, {}
+    for name, run in scenarios(rng).items():
+        if wanted and name not in wanted:
+            continue
+        started = time.perf_counter()
+        out[name] = run()
+        seconds[name] = time.perf_counter() - started
+    out["seconds"] = seconds
     json.dump(out, sys.stdout)
 
 
-def compare_maps():
-    """Small load maps (the 1M example's bearing and ranges; the spindle at speed with life) on both devices:
-    every stored variable equal to rounding."""
+def compare_maps(only):
+    """A small load map (``only``: "ball", the 1M example's bearing and ranges; "speed_life", the spindle at speed
+    with life) on both devices: every stored variable equal to rounding."""
     import h5py
 
     maps = {
@@ -85,6 +113,8 @@ def compare_maps():
     result = {}
     with tempfile.TemporaryDirectory() as tmp:
         for name, cfg in maps.items():
+            if name != only:
+                continue
             if isinstance(cfg, str):  # the example, cut to 2 speeds x 1 radial load x 4 axial loads
                 from fastbearing.model.bearing_file import read_toml
 
@@ -102,9 +132,9 @@ def compare_maps():
                         d = np.abs(np.where(np.isfinite(x), x - y, 0.0)).max() / max(float(scale or 1.0), 1e-300)
                         diffs[key] = float(d) if same_nan else float("inf")
                 status = (a["status"][()].ravel().tolist(), b["status"][()].ravel().tolist())
-            result[name] = {"cpu_status": status[0], "gpu_status": status[1], "max_relative": diffs}
+            result = {"cpu_status": status[0], "gpu_status": status[1], "max_relative": diffs}
     return result
 
 
 if __name__ == "__main__":
-    main()
+    main(set(sys.argv[1:]))

@@ -200,7 +200,7 @@ def test_a_killed_workers_zarr_block_is_redone(client, tmp_path):
     _assert_store_equals(out, reference)
 
 
-def test_a_killed_client_resumes_the_zarr_store(client, tmp_path):
+def test_a_killed_client_resumes_the_zarr_store(client, tmp_path, capsys):
     """SIGKILL the client (the `fastbearing loadmap --dask` process) once a few blocks are recorded in the
     store: --resume (here on this test's cluster) computes only the rest, and the store equals a local run."""
     import subprocess
@@ -231,5 +231,6 @@ def test_a_killed_client_resumes_the_zarr_store(client, tmp_path):
     with pytest.raises(ValueError, match="unfinished run exists"):
         fb.loadmap(str(cfg), out, progress=False)
     fb.loadmap(str(cfg), out, progress=False, client=client, resume=True)
+    assert "computed in this run, the rest resumed" in capsys.readouterr().err
     reference = fb.loadmap(str(cfg), tmp_path / "reference.h5", progress=False)
     _assert_store_equals(out, reference)

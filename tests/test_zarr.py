@@ -23,8 +23,8 @@ CONFIG = {"bearing": BEARING,
           "loadmap": {"Fx": {"start": -2000.0, "stop": 2000.0, "num": 12}, "Fz": {"start": 500.0, "stop": 10000.0,
                       "num": 10}, "My": {"start": -1.0e5, "stop": 1.0e5, "num": 33}, "chunk": 600, "life": True}}
 #: Attributes that say when and how fast a file was made, or how a store is chunked: not the results.
-PROVENANCE = {"created", "completed", "wall_time_s", "compile_time_s", "zarr_chunk", "zarr_shard",
-              zarr_store.CREATED}
+PROVENANCE = {"created", "completed", "wall_time_s", "compile_time_s", "zarr_chunk", "zarr_shard", "zarr_tasks",
+              zarr_store.RUN_ID}
 
 
 def _values(a):
@@ -34,7 +34,10 @@ def _values(a):
 
 
 def _same_attr(a, b) -> bool:
-    return np.array_equal(np.asarray(a), np.asarray(b)) or str(a) == str(b)
+    """Equal as values: text as text, numbers as numbers (nan equal to nan), HDF5's arrays as zarr's lists."""
+    if isinstance(a, (str, bytes)) or isinstance(b, (str, bytes)):
+        return isinstance(a, str) and isinstance(b, str) and a == b
+    return np.array_equal(np.asarray(a, dtype=float), np.asarray(b, dtype=float), equal_nan=True)
 
 
 def assert_same_dataset(h5, store, ignore=()):
@@ -125,20 +128,92 @@ def test_interrupted_run_resumes_to_the_same_store(reference, tmp_path, capsys):
     assert int(fb.open_map(out).attrs["chunk"]) == 700
 
 
-def test_a_finish_cut_off_is_completed_by_resume(reference, tmp_path, monkeypatch):
-    """Killed inside finish after the bookkeeping was dropped: --resume finishes the store."""
+@pytest.mark.parametrize("step", ["delete", "consolidate_metadata", "mark"])
+def test_a_finish_cut_off_is_completed_by_resume(reference, tmp_path, monkeypatch, step):
+    """Killed inside finish (before dropping the bookkeeping, before consolidating, before the mark): the store
+    stays unfinished and --resume finishes it without computing a block again."""
+    import zarr.core.group as zgroup
+
     out = tmp_path / "cut.zarr"
 
     def killed(*args, **kwargs):
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(zarr_store.zarr if hasattr(zarr_store, "zarr") else zarr, "consolidate_metadata", killed)
-    with pytest.raises(KeyboardInterrupt):
+    if step == "delete":
+        monkeypatch.setattr(zgroup.Group, "__delitem__", killed)
+    elif step == "consolidate_metadata":
+        monkeypatch.setattr(zarr, "consolidate_metadata", killed)
+    else:
+        monkeypatch.setattr(zarr_store, "datetime", None)     # the mark's timestamp: the last step fails
+    with pytest.raises((KeyboardInterrupt, AttributeError)):
         fb.loadmap(CONFIG, out, progress=False)
     monkeypatch.undo()
-    assert not zarr_store.is_complete(out) or zarr_store.BOOKKEEPING not in zarr.open_group(str(out), mode="r")
+    assert not zarr_store.is_complete(out)
+    with pytest.raises(ValueError, match="not a finished"):
+        fb.open_map(out)
     fb.loadmap(CONFIG, out, progress=False, resume=True)
     assert_same_dataset(reference, out)
+
+
+def test_a_store_cut_off_while_created_is_replaced_by_overwrite(tmp_path):
+    """The root is written with its identity in one object: a store killed right after it is this program's
+    (refused by --resume, replaced by --overwrite)."""
+    from fastbearing.jobs import loadmap as lm
+    from fastbearing.jobs import runner
+
+    out = tmp_path / "cut.zarr"
+    job = lm.job(lm.read_config(CONFIG))
+    store = zarr_store.ZarrStore(out)
+
+    def killed(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    original = zarr.Group.create_array
+    zarr.Group.create_array = killed
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            runner.run(job, out, progress=False)
+    finally:
+        zarr.Group.create_array = original
+    assert store.unfinished()
+    with pytest.raises(ValueError, match="cut off while being created"):
+        fb.loadmap(CONFIG, out, progress=False, resume=True)
+    fb.loadmap(CONFIG, out, progress=False, overwrite=True)
+    assert zarr_store.is_complete(out)
+
+
+def test_a_worker_writes_only_into_its_own_runs_store(tmp_path):
+    """A block sent for one run (a task still running after Ctrl-C, a worker that sees another store of the same
+    name) is refused once the store there is another run's: one line, nothing written."""
+    from fastbearing.jobs import loadmap as lm
+    from fastbearing.jobs import runner
+    from fastbearing.jobs.grid import plan_blocks
+
+    out = tmp_path / "m.zarr"
+    fb.loadmap(CONFIG, out, progress=False)
+    job = lm.job(lm.read_config(CONFIG))
+    block = plan_blocks(job.cases.shape, job.line_length, job.chunk)[0]
+    stale = {"where": str(out), "run_id": "an earlier run"}
+    res = runner.storage.allocate(list(job.variables), job.sizes, block.size)
+    with pytest.raises(ValueError, match=r"cannot write block 0 into .*not this run's") as err:
+        zarr_store.write_on_worker(stale, block, res)
+    assert "\n" not in str(err.value)
+
+
+def test_resume_refuses_a_store_cut_otherwise(tmp_path, monkeypatch):
+    """The store's chunks and shards are checked on --resume: a version that cuts the same config otherwise
+    would record other blocks."""
+    from conftest import interrupted_after
+
+    from fastbearing.jobs import loadmap as lm
+    from fastbearing.jobs import runner
+
+    out = tmp_path / "r.zarr"
+    with pytest.raises(KeyboardInterrupt):
+        runner.run(interrupted_after(lm.job(lm.read_config(CONFIG)), 2), out, progress=False)
+    monkeypatch.setattr(zarr_store, "MAX_UNSHARDED_BLOCKS", 3)
+    with pytest.raises(ValueError, match="cut into chunks and shards otherwise"):
+        fb.loadmap(CONFIG, out, progress=False, resume=True)
 
 
 def test_an_fsspec_url_is_a_store(reference, tmp_path):
@@ -188,6 +263,7 @@ def test_cli_format_option(tmp_path):
 @pytest.mark.parametrize("where, said", [
     ("missing/folder/m.zarr", "does not exist"),
     ("nosuchprotocol://bucket/m.zarr", "not a location fsspec knows"),
+    ("memory://bucket/m.h5", "a URL output is written as a zarr store"),
 ])
 def test_bad_locations_are_one_line(tmp_path, where, said):
     from conftest import cli_run
@@ -252,3 +328,12 @@ def test_only_some_variables_in_float32(reference, tmp_path, suffix):
     with pytest.raises(ValueError, match="loadmap.dtype"):
         fb.loadmap({**CONFIG, "loadmap": {**CONFIG["loadmap"], "dtype": "float16"}}, tmp_path / f"b{suffix}",
                    progress=False)
+
+
+def test_blocks_not_recorded_are_never_finished(tmp_path, monkeypatch):
+    """Blocks that no writer recorded (workers that wrote elsewhere) leave the store unfinished, said in one line."""
+    monkeypatch.setattr(zarr_store.ZarrPart, "write_block", lambda self, block, arrays: None)
+    out = tmp_path / "lost.zarr"
+    with pytest.raises(ValueError, match=r"12 blocks were not recorded in .*lost.zarr; nothing was marked finished"):
+        fb.loadmap(CONFIG, out, progress=False)
+    assert not zarr_store.is_complete(out)

@@ -44,7 +44,8 @@ def require_cuda():
     try:
         cuda = import_cuda()
     except Exception as err:  # a broken install: say what failed to import
-        raise CudaUnavailable(f"device 'cuda': numba-cuda failed to import ({type(err).__name__}: {err})") from None
+        reason = " ".join(str(err).split())    # one line, whatever the CUDA bindings printed
+        raise CudaUnavailable(f"device 'cuda': numba-cuda failed to import ({type(err).__name__}: {reason})") from None
     if simulated():
         return cuda
     try:

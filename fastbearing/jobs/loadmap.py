@@ -273,6 +273,9 @@ def loadmap(config, output=None, *, threads=None, resume=False, overwrite=False,
     if as_dataset:
         jobs.require_xarray()
     device = validate.choice(device, "device", DEVICES)
+    if device == "cuda" and client is not None:
+        raise ValueError("device = 'cuda' runs on this machine's GPU; a Dask run on GPU workers is not built yet "
+                         "(run --device cuda without --dask, or the CPU workers with --dask)")
     if device == "cuda":
         require_cuda()
     out = jobs.run(job(cfg, device), jobs.output_path(output, cfg.source), threads=threads, resume=resume,

@@ -9,6 +9,24 @@ import os
 from pathlib import Path
 
 
+#: The attribute that marks a finished file or store (1; 0 while a run writes it).
+COMPLETE = "fastbearing_complete"
+
+
+def is_url(output) -> bool:
+    """An fsspec URL (s3://, gcs://, memory:// ...): a zarr store's location, never a local path."""
+    return "://" in str(output)
+
+
+def slab_shape(shape: tuple[int, ...], slab: tuple) -> tuple[int, ...]:
+    """The shape of ``array[slab]`` for an array of ``shape``: a block's hyperslab (ints drop their axis)."""
+    out = []
+    for n, s in zip(shape, slab):
+        if isinstance(s, slice):
+            out.append(len(range(*s.indices(n))))
+    return tuple(out) + tuple(shape[len(slab):])
+
+
 def check_folder(out: Path) -> None:
     """One-line ValueError unless the folder ``out`` goes into exists and is writable."""
     folder = out.parent if str(out.parent) else Path(".")

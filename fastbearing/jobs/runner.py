@@ -43,6 +43,7 @@ from ..dofs import AXES, DOF_LABELS, LONG_NAMES, UNITS, UNITS_CONVENTION
 from .._cache import CompileWatch
 from ..files import DiskFull
 from .grid import CaseSet, plan_blocks
+from .locations import is_url
 from ..engine.solver import SolverSettings
 
 #: Most blocks a Dask run may have out on the cluster at once.
@@ -254,7 +255,7 @@ def output_path(output, source: Path | None):
     """The output: as given (a path, or a zarr store's URL), or the config's name with suffix .h5 in the
     current folder."""
     if output is not None:
-        return output if "://" in str(output) else Path(output)
+        return output if is_url(output) else Path(output)
     if source is None:
         raise ValueError("output is required when the config is not a file")
     return Path(source.name).with_suffix(".h5")
@@ -282,7 +283,7 @@ def run(job: Job, output, *, threads=None, resume=False, overwrite=False, progre
             print(f"fastbearing: {output} is already complete; nothing to resume", file=sys.stderr)
             return store.result()
         blocks = plan_blocks(job.cases.shape, job.line_length, job.chunk)
-        tasks = store.tasks(blocks, job.cases.shape)
+        tasks = store.tasks(blocks, job.cases.shape, resuming=state == "resume")
         if state == "resume" and store.all_done():
             # killed while finishing: every block is there, only the finishing step is repeated
             store.finish(job.compression, tasks, {}, [v.name for v in job.stored_variables])
@@ -328,6 +329,11 @@ def _compute(job: Job, store, blocks, threads, progress, client, max_in_flight) 
         if _disk_full(err):
             raise _full(store, job) from None
         raise
+    missing = int((~pf.done_mask()).sum())
+    if missing:  # workers that wrote elsewhere (a path they see otherwise), or a block lost without an error
+        pf.close()
+        raise ValueError(f"{missing} blocks were not recorded in {store.part_name}; nothing was marked finished "
+                         "(do the workers see the same location?); continue with --resume")
     computed = sum(b.size for b in pending)
     counts = _status_counts(pf)
     pf.close()
@@ -360,9 +366,10 @@ def _full(store, job: Job, when: str = "") -> DiskFull:
 
     done = store.finished_blocks()
     need = storage.human_size(job.bytes_needed())
-    free = storage.human_size(shutil.disk_usage(Path(store.part_name).parent).free)
+    local = Path(store.part_name) if not is_url(store.part_name) else None
+    free = f" ({storage.human_size(shutil.disk_usage(local.parent).free)} free now)" if local is not None else ""
     return DiskFull(f"fastbearing: the disk is full{' ' + when if when else ''}: {done} finished blocks are "
-                    f"kept in {store.part_name}; the whole {job.kind} needs about {need} ({free} free now); free some space "
+                    f"kept in {store.part_name}; the whole {job.kind} needs about {need}{free}; free some space "
                     "and continue with --resume")
 
 

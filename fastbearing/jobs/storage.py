@@ -30,9 +30,9 @@ import numpy as np
 from .. import status as st
 from ..dofs import DISPLACEMENT_UNITS, K_UNITS, LOAD_UNITS
 from ..files import refuse_overwrite
-from .locations import RunLock, check_disk_space, check_folder, human_size  # noqa: F401 (used by the runner too)
+from .locations import (COMPLETE, RunLock, check_disk_space, check_folder, human_size,  # noqa: F401 (the runner's too)
+                        slab_shape as _slab_shape)
 
-COMPLETE = "fastbearing_complete"
 #: Compressions a config may name: HDF5 takes none, lzf, gzip; a zarr store none, gzip, zstd (zarr_store.py).
 COMPRESSIONS = ("none", "lzf", "gzip", "zstd")
 HDF5_COMPRESSIONS = ("none", "lzf", "gzip")
@@ -442,14 +442,6 @@ class BlockWriter:
             raise self.error
 
 
-def _slab_shape(shape: tuple[int, ...], slab: tuple) -> tuple[int, ...]:
-    out = []
-    for n, s in zip(shape, slab):
-        if isinstance(s, slice):
-            out.append(len(range(*s.indices(n))))
-    return tuple(out) + tuple(shape[len(slab):])
-
-
 def finish(part: Path, final: Path, compression: str, blocks, attrs: dict, variables: list[str]) -> None:
     """Mark ``part`` complete and move it to ``final`` (repacked with compression if asked).
 
@@ -560,7 +552,7 @@ class Hdf5Store:
         """The working file was marked complete (a run killed while finishing)."""
         return is_complete(self.part)
 
-    def tasks(self, blocks, shape):
+    def tasks(self, blocks, shape, resuming: bool = False):
         return blocks
 
     def create(self, case_dims, extra_dims, scalars, variables, attrs, blocks, tasks, compression,

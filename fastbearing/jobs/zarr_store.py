@@ -26,9 +26,9 @@ Needs ``pip install 'fastbearing[zarr]'`` (zarr >= 3, fsspec). Units: N, mm, rad
 
 from __future__ import annotations
 
-import math
 import os
 import socket
+import uuid
 import warnings
 from dataclasses import replace
 from datetime import datetime, timezone
@@ -37,28 +37,29 @@ from pathlib import Path
 import numpy as np
 
 from ..files import OutputExists
-from .locations import RunLock, alive, check_disk_space, check_folder
+from .locations import COMPLETE, RunLock, alive, check_disk_space, check_folder, is_url, slab_shape
 
 #: The runner's blocks (grid.Block: index, start, stop, slab), named in annotations only: this module makes
 #: none of its own, and grid reads stores (case files), so importing it here would close a circle.
 Block = "grid.Block"
 
-COMPLETE = "fastbearing_complete"
 CREATED = "fastbearing_created"             # set once every array exists: a store cut off while created is not resumed
+RUN_ID = "fastbearing_run_id"               # unique to one creation: workers write only into the store they were sent
 BOOKKEEPING = "block_counts"
 COMPRESSIONS = ("none", "gzip", "zstd")
 #: Up to this many blocks, one chunk (one object per variable) per block; beyond it, shards of several blocks.
 MAX_UNSHARDED_BLOCKS = 512
-#: The most cases one shard (one unit of work, one buffer) may hold.
-MAX_SHARD_CASES = 1_000_000
+#: The most cases one shard (one unit of work) may hold: its buffers then take about 90 MB a set at the
+#: 1M example's 345 bytes a case (a local run holds two sets, a worker one).
+MAX_SHARD_CASES = 262_144
 #: Status codes are int8: a block's counts are kept for all 256 values (index = code + 128).
 N_CODES = 256
 
 
 def is_zarr_location(output) -> bool:
-    """True for a zarr store: a name ending in .zarr, or any URL (fsspec), which HDF5 cannot write."""
+    """True for a zarr store: a name ending in .zarr (any case), or any URL (fsspec), which HDF5 cannot write."""
     text = str(output).rstrip("/")
-    return text.endswith(".zarr") or "://" in text
+    return text.lower().endswith(".zarr") or is_url(text)
 
 
 def require_zarr():
@@ -70,10 +71,6 @@ def require_zarr():
     if int(zarr.__version__.split(".")[0]) < 3:
         raise ValueError(f"a zarr store needs zarr >= 3 (found {zarr.__version__}): pip install 'fastbearing[zarr]'")
     return zarr
-
-
-def _is_url(where: str) -> bool:
-    return "://" in where
 
 
 def _fs(where: str):
@@ -98,9 +95,7 @@ def _jsonable(value):
         return value.item()
     if isinstance(value, bytes):
         return value.decode()
-    if isinstance(value, float) and not math.isfinite(value):
-        return str(value)
-    return value
+    return value                                  # inf and nan too: zarr writes them as JSON's Infinity and NaN
 
 
 def _codecs(compression: str):
@@ -108,14 +103,6 @@ def _codecs(compression: str):
 
     return {"none": None, "gzip": GzipCodec(level=4),
             "zstd": BloscCodec(cname="zstd", clevel=3, shuffle="shuffle")}[compression]
-
-
-def _slab_shape(shape: tuple[int, ...], slab: tuple) -> tuple[int, ...]:
-    out = []
-    for n, s in zip(shape, slab):
-        if isinstance(s, slice):
-            out.append(len(range(*s.indices(n))))
-    return tuple(out) + tuple(shape[len(slab):])
 
 
 # -- chunks and shards from the runner's blocks -------------------------------------------------------------
@@ -167,6 +154,11 @@ def shard_tasks(blocks: list[Block], shape: tuple[int, ...]) -> tuple[list[Block
     return tasks, shard
 
 
+def layout(chunk, shard, n_tasks: int) -> dict:
+    """The attributes that say how a store is cut: its chunk and shard shapes and its number of units of work."""
+    return {"zarr_chunk": list(chunk), "zarr_shard": list(shard) if shard else "none", "zarr_tasks": n_tasks}
+
+
 # -- the store ------------------------------------------------------------------------------------------
 
 class ZarrStore:
@@ -180,7 +172,13 @@ class ZarrStore:
             from urllib.parse import unquote, urlparse
 
             self.where = unquote(urlparse(self.where).path)
-        self.local = None if _is_url(self.where) else Path(self.where)
+        if is_url(self.where) and not self.where.lower().endswith(".zarr"):
+            raise ValueError(f"{self.where}: a URL output is written as a zarr store; name it ....zarr (an HDF5 "
+                             "file needs a local path)")
+        # workers open the store by this name: a local one by its absolute path (their folders differ)
+        self.local = None if is_url(self.where) else Path(self.where).absolute()
+        if self.local is not None:
+            self.where = str(self.local)
         self._zarr = require_zarr()
 
     # what messages call it: the store itself holds the finished blocks (no separate working name)
@@ -285,9 +283,17 @@ class ZarrStore:
         return bool(self.open_part().done_mask().all())
 
     # -- creating
-    def tasks(self, blocks: list[Block], shape: tuple[int, ...]) -> list[Block]:
-        """The units of work: the blocks, or shards of consecutive blocks (shard_tasks)."""
-        return shard_tasks(blocks, shape)[0]
+    def tasks(self, blocks: list[Block], shape: tuple[int, ...], resuming: bool = False) -> list[Block]:
+        """The units of work: the blocks, or shards of consecutive blocks (shard_tasks). Resuming, the store's
+        own cut must be the one computed now (else its records would name other blocks)."""
+        tasks, shard = shard_tasks(blocks, shape)
+        if resuming:
+            attrs = self._attrs() or {}
+            now = layout(chunk_shape(blocks, shape), shard, len(tasks))
+            if any(attrs.get(k) != v for k, v in now.items()):
+                raise ValueError(f"{self.where} was cut into chunks and shards otherwise than this version cuts the "
+                                 "same config; start again with --overwrite")
+        return tasks
 
     def create(self, case_dims, extra_dims, scalars, variables, attrs: dict, blocks: list[Block],
                tasks: list[Block], compression: str, aux_coords=()) -> None:
@@ -296,9 +302,10 @@ class ZarrStore:
         shape = tuple(len(c.values) for c in case_dims)
         chunk = chunk_shape(blocks, shape)
         _, shard = shard_tasks(blocks, shape)
-        g = zarr.open_group(store=self.where, mode="w-", zarr_format=3)
-        g.attrs.update({k: _jsonable(v) for k, v in attrs.items()} | {COMPLETE: 0, CREATED: 0,
-                       "zarr_chunk": list(chunk), "zarr_shard": list(shard) if shard else "none"})
+        # the root and its identity in one object: a store cut off after this is ours (--overwrite replaces it)
+        identity = {k: _jsonable(v) for k, v in attrs.items()} | {
+            COMPLETE: 0, CREATED: 0, RUN_ID: uuid.uuid4().hex, **layout(chunk, shard, len(tasks))}
+        g = zarr.open_group(store=self.where, mode="w-", zarr_format=3, attributes=identity)
         counts = g.create_array(BOOKKEEPING, shape=(len(tasks), N_CODES), dtype="i8", chunks=(1, N_CODES),
                                 dimension_names=["block", "status_code"], fill_value=0)
         counts.attrs.update({"long_name": "solves per status code (index = code + 128) of each finished block; "
@@ -340,8 +347,8 @@ class ZarrStore:
         return ZarrPart(self.where)
 
     def worker_sink(self) -> dict:
-        """What a Dask worker needs to write its own blocks: the location and the store's creation stamp."""
-        return {"where": self.where, "created": self._attrs().get("created", "")}
+        """What a Dask worker needs to write its own blocks: the location (absolute) and the store's run id."""
+        return {"where": self.where, "run_id": (self._attrs() or {}).get(RUN_ID, "")}
 
     def finished_blocks(self) -> int:
         try:
@@ -360,7 +367,9 @@ class ZarrStore:
             warnings.simplefilter("ignore")         # "consolidated metadata is not part of the v3 spec": xarray reads it
             self._zarr.consolidate_metadata(self.where)
         # last: the mark (root attributes written through a handle opened after consolidating keep it)
-        self._group("r+").attrs.update({COMPLETE: 1, "completed": datetime.now(timezone.utc).isoformat(timespec="seconds")})
+        final = self._group("r+").attrs
+        final.update({COMPLETE: 1, "completed": datetime.now(timezone.utc).isoformat(timespec="seconds")})
+        final.pop(CREATED, None)                     # bookkeeping, as the HDF5 file drops its own
 
 
 class ZarrPart:
@@ -378,6 +387,11 @@ class ZarrPart:
             self._arrays[name] = self.group[name].with_config({"write_empty_chunks": True})
         return self._arrays[name]
 
+    def run_id(self) -> str:
+        """The run id the store holds now (read afresh: a small read of the root's metadata)."""
+        zarr = require_zarr()
+        return zarr.open_group(store=self.where, mode="r", zarr_format=3).attrs.get(RUN_ID, "")
+
     def done_mask(self) -> np.ndarray:
         if BOOKKEEPING not in self.group:            # dropped by a finish that was cut off: every block was done
             return np.ones(int(self.group.attrs["n_blocks"]), bool)
@@ -387,7 +401,7 @@ class ZarrPart:
         """Write one block's arrays into its chunks, then record it done; returns its status counts."""
         for name, values in arrays.items():
             a = self._array(name)
-            a[block.slab] = values.reshape(_slab_shape(a.shape, block.slab))
+            a[block.slab] = values.reshape(slab_shape(a.shape, block.slab))
         counts = status_counts(arrays["status"])
         self._array(BOOKKEEPING)[block.index] = counts      # the record last: a kill before it redoes the block
         return counts
@@ -413,13 +427,24 @@ _OPEN: dict = {}
 
 
 def write_on_worker(sink: dict, block: Block, arrays: dict[str, np.ndarray]) -> np.ndarray:
-    """A Dask worker writes its block into the store itself; the store is opened once per worker and run."""
-    key = (sink["where"], sink["created"])
-    part = _OPEN.get(key)
-    if part is None:
-        _OPEN.clear()
-        part = _OPEN[key] = ZarrPart(sink["where"])
-    return part.write_block(block, arrays)
+    """A Dask worker writes its block into the store itself (opened once per worker and run), after checking that
+    the store at that location is still the one of this run (not one an --overwrite made since, nor another store
+    of the same name on this worker's own disk). Any failure is one line naming the worker and the store."""
+    try:
+        key = (sink["where"], sink["run_id"])
+        part = _OPEN.get(key)
+        if part is None:
+            _OPEN.clear()
+            part = _OPEN[key] = ZarrPart(sink["where"])
+        if part.run_id() != sink["run_id"]:
+            _OPEN.clear()
+            raise ValueError("the store there is not this run's (replaced since, or another store of the same "
+                             "name that this worker sees)")
+        return part.write_block(block, arrays)
+    except Exception as err:  # noqa: BLE001 - a worker's failure travels to the client as one line
+        text = " ".join(str(err).split()) or type(err).__name__
+        raise ValueError(f"worker {socket.gethostname()} cannot write block {block.index} into {sink['where']}: "
+                         f"{text} (do the workers see the same location?)") from None
 
 
 class _UrlLock:

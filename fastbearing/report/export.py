@@ -122,10 +122,11 @@ def read_source(path, case: int | None = None, at: dict | None = None, bearing: 
     list), ``system`` the shaft's K_system at the reference point; one of the two is required there, and
     both are refused for any other source.
     """
+    from ..jobs.locations import is_url
     from ..jobs.zarr_store import is_zarr_location
 
     store = is_zarr_location(path)                 # a zarr store: a folder, or a URL
-    path = Path(path) if not (store and "://" in str(path)) else path
+    path = path if is_url(path) else Path(path)
     if not store and not path.is_file():
         raise ValueError(f"file not found: {path}" if not path.exists() else f"{path} is not a file")
     if store and isinstance(path, Path) and not path.is_dir():

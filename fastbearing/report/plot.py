@@ -297,10 +297,10 @@ def _dataset(source, kind: str):
         ds, opened = source, False
     else:
         from ..jobs.loadmap import open_dataset
-        from ..jobs.zarr_store import is_zarr_location
+        from ..jobs.locations import is_url
 
-        path = source if "://" in str(source) else Path(source)
-        if not is_zarr_location(path) and not path.exists() or isinstance(path, Path) and not path.exists():
+        path = source if is_url(source) else Path(source)
+        if isinstance(path, Path) and not path.exists():
             raise ValueError(f"{path}: file not found")
 
         ds, opened = open_dataset(path), True  # ValueError if it is not a finished fastbearing file
