@@ -147,9 +147,6 @@ def build_parser() -> argparse.ArgumentParser:
                            "with --resume."))
     m.add_argument("config", metavar="CONFIG.toml", help="config with [bearing] and [loadmap] tables")
     _add_job_arguments(m)
-    m.add_argument("--device", choices=("cpu", "cuda"), default="cpu",
-                   help="where the blocks are computed: cpu (default, all cores) or cuda (one NVIDIA GPU, the same "
-                   "kernels through numba-cuda; needs pip install 'fastbearing[cuda]')")
     p = sub.add_parser("passage", help="ball-passage (time-varying) stiffness tables, to HDF5 or zarr (and CSV)",
                        description=(
                            "Rotate the ball set through one ball-pass period and tabulate Kb (and q) at every "
@@ -243,6 +240,9 @@ def _add_job_arguments(parser) -> None:
                         "identical to a local run (needs pip install 'fastbearing[dask]')")
     parser.add_argument("--in-flight", type=int, metavar="N", help="with --dask: blocks out on the cluster at once "
                         "(default 2 per worker thread)")
+    parser.add_argument("--device", choices=("cpu", "cuda"), default="cpu",
+                        help="where the blocks are computed: cpu (default, all cores) or cuda (one NVIDIA GPU, the "
+                        "same kernels through numba-cuda; needs pip install 'fastbearing[cuda]')")
 
 
 def _run_job(run, args, **extra) -> int:
@@ -439,7 +439,7 @@ def _paper(args) -> int:
 def _passage(args) -> int:
     from .jobs.passage import passage
 
-    return _run_job(passage, args, csv_files=args.csv)
+    return _run_job(passage, args, csv_files=args.csv, device=args.device)
 
 
 def _shaft(args) -> int:

@@ -77,9 +77,25 @@ def scenarios(rng):
                               rng.uniform(-2e4, 2e4, 8), rng.uniform(-2e4, 2e4, 8)])
         return compare(fb.solve_many(taper, Fr), fb.solve_many(taper, Fr, device="cuda"))
 
+    def passage_ball():
+        """A small ball-passage table of the DB pair (quasi-static; every position from the previous one's q)."""
+        return compare_passage({"bearing": {"preset": "gunduz2013", "arrangement": "DB"},
+                                "passage": {"given": "load", "Fx": [200.0, 3000.0], "Fz": [500.0, 2000.0],
+                                            "positions": 8}})
+
+    def passage_roller_speed():
+        """The tapered pair's table and the spindle pair's at 12 000 rpm with an outer-race spall."""
+        taper = {"bearing": str(DATA / "bearings" / "30206-TDO.toml"),
+                 "passage": {"given": "load", "Fx": [1000.0, 3000.0], "Fz": 500.0, "positions": 6}}
+        spall = {"bearing": str(DATA / "bearings" / "7014C-DB.toml"),
+                 "passage": {"given": "load", "Fx": [500.0], "Fz": 1000.0, "positions": 6, "speed": 12000.0,
+                             "defects": [{"race": "outer", "angle": 0.0, "width": 1.0, "depth": 0.01}]}}
+        return {"roller": compare_passage(taper), "speed_defect": compare_passage(spall)}
+
     return {"cold_ball": cold_ball, "warm_ball": warm_ball, "broyden_fixed": broyden_fixed, "speed_ball": speed_ball,
             "roller": roller, "map_ball": lambda: compare_maps("ball"),
-            "map_speed_life": lambda: compare_maps("speed_life")}
+            "map_speed_life": lambda: compare_maps("speed_life"), "passage_ball": passage_ball,
+            "passage_roller_speed": passage_roller_speed}
 
 
 def main(wanted):
@@ -96,6 +112,24 @@ def main(wanted):
         seconds[name] = time.perf_counter() - started
     out["seconds"] = seconds
     json.dump(out, sys.stdout)
+
+
+def compare_passage(cfg):
+    """One ball-passage table on both devices: statuses, and the largest relative difference of every real-valued
+    stored variable."""
+    import h5py
+
+    with tempfile.TemporaryDirectory() as tmp:
+        paths = [fb.passage(cfg, Path(tmp) / f"p-{d}.h5", progress=False, device=d) for d in ("cpu", "cuda")]
+        diffs = {}
+        with h5py.File(paths[0]) as a, h5py.File(paths[1]) as b:
+            for key in ("q", "f", "K", "residual", "max_ball_load", "K_mean", "K_amplitude"):
+                x, y = a[key][()], b[key][()]
+                scale = max(float(np.nanmax(np.abs(x))), 1e-300)
+                same_nan = np.array_equal(np.isfinite(x), np.isfinite(y))
+                diffs[key] = float(np.abs(np.where(np.isfinite(x), x - y, 0.0)).max() / scale) if same_nan else 1e300
+            status = (a["status"][()].ravel().tolist(), b["status"][()].ravel().tolist())
+    return {"cpu_status": status[0], "gpu_status": status[1], "max_relative": diffs}
 
 
 def compare_maps(only):

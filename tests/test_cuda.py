@@ -33,8 +33,8 @@ def _env(**extra):
 #: numba cache). FASTBEARING_CUDASIM_ALL=1 adds the balls at speed, the roller bearing and the speed map with life
 #: (about 2 more minutes from an empty cache: they compile the CPU's speed and roller kernels for the simulator's
 #: own entry points); bench/gpu_bench.py --simulate runs speed and roller maps too.
-QUICK = ("cold_ball", "warm_ball", "broyden_fixed", "map_ball")
-ALL = QUICK + ("speed_ball", "roller", "map_speed_life")
+QUICK = ("cold_ball", "warm_ball", "broyden_fixed", "map_ball", "passage_ball")
+ALL = QUICK + ("speed_ball", "roller", "map_speed_life", "passage_roller_speed")
 SCENARIOS = ALL if os.environ.get("FASTBEARING_CUDASIM_ALL") == "1" else QUICK
 
 
@@ -80,6 +80,17 @@ def test_simulated_maps_match_the_cpu(simulated, name):
     if name == "speed_life":
         assert {"L10r", "min_outer_contact_angle"} <= set(r["max_relative"])
     assert max(r["max_relative"].values()) <= 1e-10, r["max_relative"]
+
+
+@needs_numba_cuda
+@pytest.mark.parametrize("name", ["passage_ball", "passage_roller_speed"])
+def test_simulated_passage_tables_match_the_cpu(simulated, name):
+    """Ball-passage tables, one operating point per GPU thread: the DB pair; with FASTBEARING_CUDASIM_ALL=1 also
+    the tapered roller pair and the spindle pair at 12 000 rpm with an outer-race spall."""
+    r = _scenario(simulated, name)
+    for table in ([r] if "cpu_status" in r else list(r.values())):
+        assert table["gpu_status"] == table["cpu_status"]
+        assert max(table["max_relative"].values()) <= 1e-10, table["max_relative"]
 
 
 def test_refusal_names_numba_cuda_when_it_is_missing(monkeypatch):

@@ -31,7 +31,7 @@ from ..config import CACHE, ERROR_MODEL, REFCOUNT
 from .high_speed import warm_rows
 from .schema import LIFE_SLICES, ElementSet
 from .solver import WORK_ROWS, solve_case
-from .sweep import PREDICTOR_ROWS, at_speed, map_runs
+from .sweep import PREDICTOR_ROWS, at_speed, map_runs, passage_point
 from .device import CudaUnavailable, describe, import_cuda, require_cuda, simulated  # noqa: F401 (re-exported)
 
 #: Threads per block of both kernels (each thread runs a whole solve: register-heavy code).
@@ -94,11 +94,11 @@ def _parts(balls: ElementSet) -> tuple[bool, bool, bool, bool]:
             balls.four_point is not None)
 
 
-def _kernel(kind: str, parts: tuple[bool, bool, bool, bool]):
+def _kernel(kind: str, parts: tuple[bool, ...]):
     key = (kind, parts)
     if key not in _KERNELS:
         _cuda()
-        _KERNELS[key] = (_make_solve if kind == "solve" else _make_map)(*parts)
+        _KERNELS[key] = {"solve": _make_solve, "map": _make_map, "passage": _make_passage}[kind](*parts)
     return _KERNELS[key]
 
 
@@ -199,6 +199,62 @@ def _make_map(has_exponents, has_slices, has_speed, has_four_point):
     return map_block
 
 
+def _make_passage(has_exponents, has_slices, has_speed, has_four_point, has_speed_tables):
+    """Ball-passage tables, one operating point per thread (grid stride): sweep.passage_point itself, every cage
+    position from the previous one's converged q. ``has_speed_tables``: high-speed tables per position (defects)."""
+    from numba import float64
+
+    @cuda.jit
+    def passage_block(inputs, given_load, tables, slice_tables, speed_tables, exponents, slices, speed_table,
+                      four_point, smoothing, omega, q, f, K, status, iterations, residual, max_load, n_loaded,
+                      min_angle, max_angle, element_loads, ball_row, settings, ball_load_all, contact_angle_all,
+                      spin_all):
+        t = cuda.grid(1)
+        n_threads = cuda.gridsize(1)
+        work = cuda.local.array((WORK_ROWS, 5), float64)
+        inputs, tables, slice_tables, speed_tables = native(inputs), native(tables), native(slice_tables), native(
+            speed_tables)
+        exponents, slices, speed_table, four_point = native(exponents), native(slices), native(speed_table), native(
+            four_point)
+        q, f, K, status, iterations, residual = native(q), native(f), native(K), native(status), native(
+            iterations), native(residual)
+        max_load, n_loaded, min_angle, max_angle = native(max_load), native(n_loaded), native(min_angle), native(
+            max_angle)
+        element_loads, ball_row, spin_all = native(element_loads), native(ball_row), native(spin_all)
+        ball_load_all, contact_angle_all = native(ball_load_all), native(contact_angle_all)
+        if has_exponents:
+            exps = exponents
+        else:
+            exps = None
+        if has_slices:
+            sl = slices
+            sl_tables = slice_tables
+        else:
+            sl = None
+            sl_tables = None
+        if has_speed:
+            st = speed_table
+            spin = spin_all[t]
+        else:
+            st = None
+            spin = None
+        if has_speed_tables:
+            st_tables = speed_tables
+        else:
+            st_tables = None
+        if has_four_point:
+            fp = four_point
+        else:
+            fp = None
+        balls = ElementSet(tables[0], exps, smoothing, sl, st, omega, spin, fp)
+        results = (q, f, K, status, iterations, residual, max_load, n_loaded, min_angle, max_angle, element_loads)
+        for i in range(t, inputs.shape[0], n_threads):
+            passage_point(i, inputs, given_load, tables, sl_tables, st_tables, balls, results, ball_row, settings,
+                          work, ball_load_all[t], contact_angle_all[t], spin)
+
+    return passage_block
+
+
 # -- host side -------------------------------------------------------------------------------------------------------
 
 def _launch(n_work: int, per_thread_bytes: int, cap: int = MAX_THREADS) -> tuple[int, int]:
@@ -296,6 +352,40 @@ def map_sweep_cuda(inputs, given_load, segments, q, f, K, status, iterations, re
                                              max_angle, outer_angles, balls, speeds, ball_row, settings, life, C0,
                                              L10r, L10r_row, safety)
     _kernel("map", _parts(balls))[blocks, tpb](*args)
+    for h, d in zip(host, dev):
+        d.copy_to_host(h)
+
+
+def passage_sweep_cuda(inputs, given_load, tables, slice_tables, speed_tables, balls, q, f, K, status, iterations,
+                       residual, max_load, n_loaded, min_angle, max_angle, element_loads, ball_row, settings, stop):
+    """sweep.passage_sweep on the GPU, in place, with the same arguments and results: one thread per operating
+    point (loads in N, N*mm or displacements in mm, rad), its cage positions in turn. ``stop[0] != 0`` before the
+    launch leaves the block untouched (incomplete); Ctrl-C during a launch is seen at the next block.
+    CudaUnavailable without a usable GPU."""
+    cuda = require_cuda()
+    n = inputs.shape[0]
+    if n == 0 or stop[0] != 0:
+        return
+    put, alloc = cuda.to_device, cuda.device_array
+    n_elements = ball_row.shape[0]
+    n_balls = max(balls.balls.shape[1], 1)
+    with_speed = balls.speed_table is not None
+    rows = warm_rows(n_balls) if with_speed else 1
+    blocks, tpb = _launch(n, 8 * (2 * n_elements + (rows * n_balls if with_speed else 0)))
+    T = blocks * tpb
+    host = (q, f, K, status, iterations, residual, max_load, n_loaded, min_angle, max_angle, element_loads)
+    dev = [put(np.ascontiguousarray(a)) for a in host]
+    parts = _parts(balls) + (speed_tables is not None,)
+
+    def table(a, ndim):
+        return put(np.ascontiguousarray(a if a is not None else np.zeros((1,) * ndim)))
+
+    _, exponents, slices, speed_table, four_point = _element_parts(put, balls)
+    _kernel("passage", parts)[blocks, tpb](
+        put(np.ascontiguousarray(inputs)), bool(given_load), put(np.ascontiguousarray(tables)), table(slice_tables, 3),
+        table(speed_tables, 3), exponents, slices, speed_table, four_point, float(balls.smoothing), float(balls.omega),
+        *dev, put(np.ascontiguousarray(ball_row)), settings, alloc((T, n_elements), np.float64),
+        alloc((T, n_elements), np.float64), put(np.zeros((T, rows, n_balls) if with_speed else (1, 1, 1))))
     for h, d in zip(host, dev):
         d.copy_to_host(h)
 

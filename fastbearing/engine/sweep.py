@@ -484,16 +484,15 @@ def map_runs(runs, inputs, given_load, segments, results, balls, speeds, ball_ro
                     L10r_row[i, r] = np.nan
 
 
+# inlined into the caller's IR (the None branch pruned while typing): it returns a view, which passage_point
+# (no reference counting) may not receive from a call
+@njit(inline="always")
 def slices_at(slice_tables, p, default=None):
     """The table at cage position p of a stack, or ``default`` when the stack is None (no roller rows; no
     per-position speed tables)."""
-
-
-@overload(slices_at)
-def _slices_at(slice_tables, p, default=None):
-    if isinstance(slice_tables, types.NoneType):
-        return lambda slice_tables, p, default=None: default
-    return lambda slice_tables, p, default=None: slice_tables[p]
+    if slice_tables is None:
+        return default
+    return slice_tables[p]
 
 
 @njit(parallel=True, cache=CACHE, error_model=ERROR_MODEL, nogil=True)
@@ -510,9 +509,9 @@ def passage_sweep(inputs, given_load, tables, slice_tables, speed_tables, balls,
     position's converged q. ``stop[0] != 0`` ends the sweep early, as in map_sweep.
     """
     n_points = inputs.shape[0]
-    n_positions = tables.shape[0]
     groups = min(n_points, MAP_GROUPS)
     n_elements = ball_row.shape[0]
+    results = (q, f, K, status, iterations, residual, max_load, n_loaded, min_angle, max_angle, element_loads)
     for g in prange(groups):
         work = np.empty((WORK_ROWS, 5))
         ball_load = np.empty(n_elements)
@@ -521,20 +520,32 @@ def passage_sweep(inputs, given_load, tables, slice_tables, speed_tables, balls,
         for i in range(g, n_points, groups):
             if stop_requested(stop):
                 break
-            for p in range(n_positions):
-                warm = p > 0 and (status[i, p - 1] & OUTCOME_MASK) == CONVERGED
-                if not warm:
-                    forget_warm(spin)
-                if warm:
-                    for d in range(5):
-                        q[i, p, d] = q[i, p - 1, d]
-                status[i, p], iterations[i, p], residual[i, p] = operating_point(
-                    given_load, inputs[i], warm, q[i, p], f[i, p], K[i, p],
-                    at_position(balls, tables[p], slices_at(slice_tables, p), balls.omega, spin,
-                                slices_at(speed_tables, p, balls.speed_table)), settings,
-                    work, ball_load, contact_angle)
-                row_summary(ball_load, contact_angle, ball_row, max_load[i, p], n_loaded[i, p], min_angle[i, p],
-                            max_angle[i, p])
-                if element_loads.shape[0] > 0:
-                    for e in range(n_elements):
-                        element_loads[i, p, e] = ball_load[e]
+            passage_point(i, inputs, given_load, tables, slice_tables, speed_tables, balls, results, ball_row,
+                          settings, work, ball_load, contact_angle, spin)
+
+
+@njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
+def passage_point(i, inputs, given_load, tables, slice_tables, speed_tables, balls, results, ball_row, settings,
+                  work, ball_load, contact_angle, spin):
+    """Operating point i of :func:`passage_sweep` at every cage position, in place in ``results`` (q, f, K, status,
+    iterations, residual, max_load, n_loaded, min_angle, max_angle, element_loads; see there), each position
+    starting from the previous one's converged q. The scratch (``work``, the element record ``ball_load`` and
+    ``contact_angle``, the balls' warm starts ``spin``) is the caller's: a CPU thread's or a GPU thread's."""
+    q, f, K, status, iterations, residual, max_load, n_loaded, min_angle, max_angle, element_loads = results
+    n_elements = ball_row.shape[0]
+    for p in range(tables.shape[0]):
+        warm = p > 0 and (status[i, p - 1] & OUTCOME_MASK) == CONVERGED
+        forget_if(spin, not warm)
+        if warm:
+            for d in range(5):
+                q[i, p, d] = q[i, p - 1, d]
+        status[i, p], iterations[i, p], residual[i, p] = operating_point(
+            given_load, inputs[i], warm, q[i, p], f[i, p], K[i, p],
+            at_position(balls, tables[p], slices_at(slice_tables, p), balls.omega, spin,
+                        slices_at(speed_tables, p, balls.speed_table)), settings,
+            work, ball_load, contact_angle)
+        row_summary(ball_load, contact_angle, ball_row, max_load[i, p], n_loaded[i, p], min_angle[i, p],
+                    max_angle[i, p])
+        if element_loads.shape[0] > 0:
+            for e in range(n_elements):
+                element_loads[i, p, e] = ball_load[e]

@@ -258,14 +258,17 @@ def _variables(cfg: PassageConfig) -> list[storage.Variable]:
 
 def compute_block(tables: np.ndarray, slice_tables: np.ndarray | None, balls, ball_row: np.ndarray, given_load: bool,
                   settings, harmonics: int, speed_tables: np.ndarray | None, inputs: np.ndarray, res: dict,
-                  first: int, stop: np.ndarray) -> None:
+                  first: int, stop: np.ndarray, device: str = "cpu") -> None:
     """Fill one block's results ``res``: every point of ``inputs`` at every cage position, then the
     summaries over the period (mean, min, max, variation, Fourier). The work unit of a table, here or on Dask.
     ``balls`` the bearing's element set at cage angle 0 (Bearing.ball_set: quasi-static, or at the table's
     speed), ``speed_tables`` its high-speed tables per position where defects change them (else None).
     ``first`` (the block's first point) is unused: every point starts cold. ``stop[0] != 0`` ends early."""
     element_loads = res["element_load"] if "element_load" in res else np.empty((0, 0, 0))
-    passage_sweep(inputs, given_load, tables, slice_tables, speed_tables, balls, res["q"], res["f"],
+    sweep = passage_sweep
+    if device == "cuda":                          # the same kernels through numba-cuda (engine/gpu.py)
+        from ..engine.gpu import passage_sweep_cuda as sweep
+    sweep(inputs, given_load, tables, slice_tables, speed_tables, balls, res["q"], res["f"],
                   res["K"], res["status"],
                   res["iterations"], res["residual"], res["max_ball_load"], res["loaded_balls"],
                   res["min_contact_angle"], res["max_contact_angle"], element_loads, ball_row, settings, stop)
@@ -303,8 +306,8 @@ def position_tables(cfg: PassageConfig, spinning: bool):
             stack(np.stack(speed)) if speed else None)
 
 
-def job(cfg: PassageConfig) -> jobs.Job:
-    """The ball-passage table as a job for the runner."""
+def job(cfg: PassageConfig, device: str = "cpu") -> jobs.Job:
+    """The ball-passage table as a job for the runner; ``device`` "cuda" computes its blocks on the GPU."""
     C = storage.Coordinate
     P = cfg.n_positions
     H = min(cfg.harmonics, P // 2)
@@ -363,18 +366,20 @@ def job(cfg: PassageConfig) -> jobs.Job:
     settings = solver_settings(cfg.bearing, cfg.method, cfg.rtol, cfg.max_iter, cfg.fixed)
     compute = partial(compute_block, tables, slice_tables,
                       cfg.bearing.ball_set(speed=cfg.model_speed if spinning else None),
-                      cfg.bearing.element_rows, cfg.cases.given == "load", settings, cfg.harmonics, speed_tables)
+                      cfg.bearing.element_rows, cfg.cases.given == "load", settings, cfg.harmonics, speed_tables,
+                      device=device)
     sizes = {"dof": 5, "dof_col": 5, "row": cfg.bearing.n_rows, "position": P, "harmonic": H + 1,
              "element": cfg.bearing.n_elements}
     return jobs.Job(
         kind="ball-passage table", bearing=cfg.bearing, cases=cfg.cases, variables=tuple(_variables(cfg)),
         sizes=sizes, compute=compute, settings=settings, method=cfg.method, chunk=cfg.chunk, text=cfg.text,
         source=cfg.source, fingerprint=cfg.fingerprint, own_dims=own, aux_coords=tuple(aux), attrs=attrs,
-        solves_per_case=P, case_word="point", kernel="engine.sweep.passage_sweep")
+        solves_per_case=P, case_word="point",
+        kernel="engine.gpu.passage_sweep_cuda" if device == "cuda" else "engine.sweep.passage_sweep")
 
 
 def passage(config, output=None, *, threads=None, resume=False, overwrite=False, csv_files=False, progress=None,
-            as_dataset=False, client=None, max_in_flight=None):
+            as_dataset=False, client=None, max_in_flight=None, device="cpu"):
     """Compute ball-passage stiffness tables and write them to HDF5 or a zarr store (and optionally CSV).
 
     Runs through the same job runner as a load map: resumable, Ctrl-C safe,
@@ -405,6 +410,10 @@ def passage(config, output=None, *, threads=None, resume=False, overwrite=False,
         Run the blocks on a Dask cluster; the output is identical to a local run.
     max_in_flight : int, optional
         With ``client``: blocks out on the cluster at once (default: 2 per worker thread).
+    device : {"cpu", "cuda"}
+        Where the blocks are computed (default "cpu"); "cuda": on the GPU, one operating point per GPU thread,
+        with the same kernels (numba-cuda). Without numba-cuda, a CUDA driver or a GPU,
+        fastbearing.engine.device.CudaUnavailable names what is missing before any work is done.
 
     Returns
     -------
@@ -430,6 +439,14 @@ def passage(config, output=None, *, threads=None, resume=False, overwrite=False,
     cfg = config if isinstance(config, PassageConfig) else read_config(config)
     if as_dataset:
         jobs.require_xarray()
+    device = validate.choice(device, "device", ("cpu", "cuda"))
+    if device == "cuda":
+        if client is not None:
+            raise ValueError("device = 'cuda' runs on this machine's GPU; a Dask run on GPU workers is not built "
+                             "yet (run --device cuda without --dask, or the CPU workers with --dask)")
+        from ..engine.device import require_cuda
+
+        require_cuda()
     out = jobs.output_path(output, cfg.source)
     if csv_files and not isinstance(out, Path):
         raise ValueError(f"csv_files (--csv) writes beside a local output; {out} is a URL")
@@ -437,7 +454,7 @@ def passage(config, output=None, *, threads=None, resume=False, overwrite=False,
     existing = [p for p in csv_paths if p.exists()]
     if existing and not overwrite:
         raise ValueError(f"{existing[0]} exists; pass --overwrite to replace it")
-    out = jobs.run(job(cfg), out, threads=threads, resume=resume, overwrite=overwrite, progress=progress,
+    out = jobs.run(job(cfg, device), out, threads=threads, resume=resume, overwrite=overwrite, progress=progress,
                    client=client, max_in_flight=max_in_flight)
     if csv_paths:
         _write_csv_files(out, cfg, csv_paths)
