@@ -102,21 +102,13 @@ def _kernel(kind: str, parts: tuple[bool, ...]):
     return _KERNELS[key]
 
 
-def _make_solve(has_exponents, has_slices, has_speed, has_four_point):
-    """The cold/warm solve of every row of f_targets, one case per thread (grid stride), as
-    sweep.solve_sweep: case i at ``speeds[i]`` rad/s with a speed table, its balls' warm starts fresh."""
-    from numba import float64
+def _element_set_maker(has_exponents, has_slices, has_speed, has_four_point):
+    """The kernels' ElementSet from their arguments: a part the bearing lacks is None (the branches test the
+    closure's constants and are pruned while typing, so no code is compiled for it), and a bearing at speed takes
+    thread t's row of the balls' warm starts ``spin_all``. One function for every kernel."""
 
-    @cuda.jit
-    def solve(f_targets, q, f, K, status, iterations, residual, evaluations, table, exponents, slices,
-              speed_table, four_point, speeds, spin_all, settings, warm):
-        t = cuda.grid(1)
-        n_threads = cuda.gridsize(1)
-        work = cuda.local.array((WORK_ROWS, 5), float64)
-        f_targets, q, f, K, speeds = native(f_targets), native(q), native(f), native(K), native(speeds)
-        table, exponents, slices = native(table), native(exponents), native(slices)
-        speed_table, four_point, spin_all = native(speed_table), native(four_point), native(spin_all)
-        # the absent parts are None (branches on the closure's constants, pruned while typing)
+    @njit(inline="always")
+    def element_set(table, exponents, smoothing, slices, speed_table, omega, spin_all, t, four_point):
         if has_exponents:
             exps = exponents
         else:
@@ -135,7 +127,28 @@ def _make_solve(has_exponents, has_slices, has_speed, has_four_point):
             fp = four_point
         else:
             fp = None
-        balls = ElementSet(table, exps, 0.0, sl, st, 0.0, spin, fp)
+        return ElementSet(table, exps, smoothing, sl, st, omega, spin, fp)
+
+    return element_set
+
+
+def _make_solve(has_exponents, has_slices, has_speed, has_four_point):
+    """The cold/warm solve of every row of f_targets, one case per thread (grid stride), as
+    sweep.solve_sweep: case i at ``speeds[i]`` rad/s with a speed table, its balls' warm starts fresh."""
+    element_set = _element_set_maker(has_exponents, has_slices, has_speed, has_four_point)
+    from numba import float64
+
+    @cuda.jit
+    def solve(f_targets, q, f, K, status, iterations, residual, evaluations, table, exponents, slices,
+              speed_table, four_point, speeds, spin_all, settings, warm):
+        t = cuda.grid(1)
+        n_threads = cuda.gridsize(1)
+        work = cuda.local.array((WORK_ROWS, 5), float64)
+        f_targets, q, f, K, speeds = native(f_targets), native(q), native(f), native(K), native(speeds)
+        table, exponents, slices = native(table), native(exponents), native(slices)
+        speed_table, four_point, spin_all = native(speed_table), native(four_point), native(spin_all)
+        balls = element_set(table, exponents, 0.0, slices, speed_table, 0.0, spin_all, t, four_point)
+        spin = balls.warm
         for i in range(t, f_targets.shape[0], n_threads):
             out = solve_one(f_targets, q, f, K, balls, speeds, i, spin, settings, warm, work)
             status[i] = out.status
@@ -149,6 +162,7 @@ def _make_solve(has_exponents, has_slices, has_speed, has_four_point):
 def _make_map(has_exponents, has_slices, has_speed, has_four_point):
     """One block of a load or displacement map, one continuation run per thread: sweep.map_runs itself
     (cold start, tangent and curved predictors along the run, per-row summaries, life)."""
+    element_set = _element_set_maker(has_exponents, has_slices, has_speed, has_four_point)
     from numba import float64
 
     @cuda.jit
@@ -169,25 +183,8 @@ def _make_map(has_exponents, has_slices, has_speed, has_four_point):
         stop, life, L10r, L10r_row, safety = native(stop), native(life), native(L10r), native(L10r_row), native(safety)
         ball_load_all, contact_angle_all = native(ball_load_all), native(contact_angle_all)
         sums_all, outer_load_all, outer_count_all = native(sums_all), native(outer_load_all), native(outer_count_all)
-        if has_exponents:
-            exps = exponents
-        else:
-            exps = None
-        if has_slices:
-            sl = slices
-        else:
-            sl = None
-        if has_speed:
-            st = speed_table
-            spin = spin_all[t]
-        else:
-            st = None
-            spin = None
-        if has_four_point:
-            fp = four_point
-        else:
-            fp = None
-        balls = ElementSet(table, exps, 0.0, sl, st, 0.0, spin, fp)
+        balls = element_set(table, exponents, 0.0, slices, speed_table, 0.0, spin_all, t, four_point)
+        spin = balls.warm
         results = (q, f, K, status, iterations, residual, max_load, n_loaded, min_angle, max_angle, min_outer,
                    max_outer)
         scratch = (work, predictor, ball_load_all[t], contact_angle_all[t], sums_all[t], spin, outer_load_all[t],
@@ -202,6 +199,7 @@ def _make_map(has_exponents, has_slices, has_speed, has_four_point):
 def _make_passage(has_exponents, has_slices, has_speed, has_four_point, has_speed_tables):
     """Ball-passage tables, one operating point per thread (grid stride): sweep.passage_point itself, every cage
     position from the previous one's converged q. ``has_speed_tables``: high-speed tables per position (defects)."""
+    element_set = _element_set_maker(has_exponents, has_slices, has_speed, has_four_point)
     from numba import float64
 
     @cuda.jit
@@ -222,31 +220,16 @@ def _make_passage(has_exponents, has_slices, has_speed, has_four_point, has_spee
             max_angle)
         element_loads, ball_row, spin_all = native(element_loads), native(ball_row), native(spin_all)
         ball_load_all, contact_angle_all = native(ball_load_all), native(contact_angle_all)
-        if has_exponents:
-            exps = exponents
-        else:
-            exps = None
-        if has_slices:
-            sl = slices
+        balls = element_set(tables[0], exponents, smoothing, slices, speed_table, omega, spin_all, t, four_point)
+        spin = balls.warm
+        if has_slices:                            # the stacks per position, None where absent (as element_set)
             sl_tables = slice_tables
         else:
-            sl = None
             sl_tables = None
-        if has_speed:
-            st = speed_table
-            spin = spin_all[t]
-        else:
-            st = None
-            spin = None
         if has_speed_tables:
             st_tables = speed_tables
         else:
             st_tables = None
-        if has_four_point:
-            fp = four_point
-        else:
-            fp = None
-        balls = ElementSet(tables[0], exps, smoothing, sl, st, omega, spin, fp)
         results = (q, f, K, status, iterations, residual, max_load, n_loaded, min_angle, max_angle, element_loads)
         for i in range(t, inputs.shape[0], n_threads):
             passage_point(i, inputs, given_load, tables, sl_tables, st_tables, balls, results, ball_row, settings,
