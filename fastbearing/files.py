@@ -20,7 +20,7 @@ class OutputExists(ValueError):
     command line says ``--overwrite`` instead (:meth:`cli_message`)."""
 
     def __init__(self, path):
-        self.path = Path(path)
+        self.path = path if "://" in str(path) else Path(path)   # a store's URL stays a URL in the message
         super().__init__(f"{self.path} exists; pass overwrite=True to replace it")
 
     def cli_message(self) -> str:

@@ -226,7 +226,7 @@ def test_an_fsspec_url_is_a_store(reference, tmp_path):
     import fsspec
 
     assert not fsspec.filesystem("memory").exists("/fastbearing-test/map.zarr.lock")
-    with pytest.raises(ValueError, match="exists; pass overwrite=True"):
+    with pytest.raises(ValueError, match="^memory://fastbearing-test/map.zarr exists; pass overwrite=True"):
         fb.loadmap(CONFIG, url, progress=False)
     local = (tmp_path / "url.zarr").absolute()
     assert fb.loadmap(CONFIG, local.as_uri(), progress=False) == local
