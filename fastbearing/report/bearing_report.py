@@ -14,6 +14,7 @@ from .. import validate
 from ..analysis.faults import NAMES as FAULT_NAMES
 from ..analysis.faults import fault_frequencies
 from ..model.bearing import check_speed_model, speed_limit
+from ..model.four_point import ELEMENT as FOUR_POINT
 from ..model.geometry import load_centre_spread
 
 #: What each fault frequency is, in words (the text report's second column).
@@ -23,11 +24,15 @@ FAULT_WORDS = {"FTF": "cage (fundamental train)", "BPFO": "ball pass, outer race
 
 def bearing_report(bearing) -> dict:
     """A bearing's derived model parameters, JSON-ready (what `fastbearing bearing FILE --json` prints): every
-    row's (lengths mm, angles deg and rad, Kn N/mm^n), the load-centre spread of a double row (mm), the catalogue
+    row's (lengths mm, angles deg and rad, Kn N/mm^n; a four-point row as its two contact pairs, each with
+    ``element`` "four_point_ball" and ``pair`` +1 or -1, and ``four_point_rows`` the pairs' row indices), the load-centre spread of a double row (mm), the catalogue
     geometry's and both race contacts' where the bearing has one, and its speed limit (rpm) where it can run
     at speed."""
     rows = [r.report() for r in bearing.rows]  # each element kind reports its own row
     out = {"name": bearing.name, "arrangement": bearing.arrangement, "rows": rows}
+    pairs = [i for i, r in enumerate(rows) if r.get("element") == FOUR_POINT and r["pair"] == 1]
+    if pairs:  # each four-point row is held as its two contact pairs, +a0 then -a0
+        out["four_point_rows"] = [[i, i + 1] for i in pairs]
     if bearing.arrangement in ("DB", "DF", "DT") and not bearing.roller_rows:
         r = bearing.rows[1]
         out["load_centre_spread"] = load_centre_spread(bearing.arrangement, r.axial_offset, r.pitch_radius,
@@ -65,7 +70,13 @@ def bearing_report(bearing) -> dict:
 
 def bearing_report_text(rep: dict, bearing) -> str:
     """The report of :func:`bearing_report` as `fastbearing bearing FILE` prints it (units beside every value)."""
-    lines = [f"{rep['name'] or 'bearing'}: {rep['arrangement']}, {len(rep['rows'])} row(s)"]
+    pairs = sum(r.get("element") == FOUR_POINT for r in rep["rows"])
+    if pairs:  # a four-point row is held as its two contact pairs: say so, and what the rows below are
+        held = "; ".join(f"rows {a} (+a0) and {b} (-a0)" for a, b in rep["four_point_rows"])
+        lines = [f"{rep['name'] or 'bearing'}: {rep['arrangement']}, {len(rep['rows']) - pairs // 2} row(s), "
+                 f"{pairs // 2} of them four-point contact ball, each held as its two contact pairs: {held} below"]
+    else:
+        lines = [f"{rep['name'] or 'bearing'}: {rep['arrangement']}, {len(rep['rows'])} row(s)"]
     rg = rep.get("roller_geometry")
     if rg is not None:
         lines += ["catalogue geometry:",
@@ -86,7 +97,8 @@ def bearing_report_text(rep: dict, bearing) -> str:
                   f"  ball diameter        D  = {g['ball_diameter']:g} mm",
                   f"  pitch diameter       dm = {g['pitch_diameter']:g} mm",
                   f"  groove ratios        fi = {g['inner_groove_ratio']:g}, fo = {g['outer_groove_ratio']:g}",
-                  f"  contact angle        a0 = {g['contact_angle_deg']:g} deg",
+                  f"  contact angle        a0 = {g['contact_angle_deg']:g} deg"
+                  + (" (each contact pair of the four-point row: +a0 and -a0)" if pairs else ""),
                   f"  diametral clearance  Pd = {g['diametral_clearance']:g} mm"]
         if g["row_spacing"] is not None:
             lines.append(f"  row spacing          2e = {g['row_spacing']:g} mm")
@@ -102,7 +114,7 @@ def bearing_report_text(rep: dict, bearing) -> str:
                          f"sum rho = {c['curvature_sum']:.5g} 1/mm")
     lines.append("model parameters:")
     for i, r in enumerate(rep["rows"]):
-        if "element" in r:
+        if "element" in r and r["element"] != FOUR_POINT:  # a roller row
             lines += [f"  row {i}: {r['element'].replace('_', ' ')}s, z = {r['axial_offset']:g} mm, contact direction "
                       f"{r['contact_direction']:+d}, Z = {r['n_rollers']}",
                       f"    line-contact constant      K  = {r['hertz_constant']:.6g} N/mm^(10/9) (whole roller)",
@@ -116,7 +128,10 @@ def bearing_report_text(rep: dict, bearing) -> str:
             if r["axial_preload"]:
                 lines.append(f"    axial preload              d0 = {r['axial_preload']:.6g} mm")
             continue
-        lines += [f"  row {i}: z = {r['axial_offset']:g} mm, contact direction {r['contact_direction']:+d}, "
+        pair = (f"four-point balls, contact pair {'+' if r['pair'] > 0 else '-'}a0 (with row "
+                f"{i + 1 if r['pair'] > 0 else i - 1}: one four-point row, the same balls), "
+                if r.get("element") == FOUR_POINT else "")
+        lines += [f"  row {i}: {pair}z = {r['axial_offset']:g} mm, contact direction {r['contact_direction']:+d}, "
                   f"Z = {r['n_balls']}",
                   f"    Hertz constant             Kn = {r['hertz_constant']:.6g} N/mm^{r['exponent']:g}",
                   f"    groove-centre distance     A0 = {r['groove_center_distance']:.6g} mm",
