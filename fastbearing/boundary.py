@@ -127,9 +127,12 @@ def free_tilt_note(bearing, load, q) -> str:
     if len({r.axial_offset for r in bearing.rows}) != 1 or not (np.hypot(load[0], load[1]) > 0 and load[2] != 0):
         return ""
     tilt = float(np.hypot(q[3], q[4]))
-    why = ("a single row carries a combined load with a tilt" if bearing.n_rows == 1 else
-           "its rows sit at one axial place, as a four-point row's two contact pairs: like a single row it carries "
-           "a combined load with a tilt")
+    if bearing.n_rows == 1:
+        why = "a single row carries a combined load with a tilt"
+    elif bearing.n_rows == 2 and all(r.element == "four_point_ball" for r in bearing.rows):
+        why = "a four-point row, like a single row, carries a combined load with a tilt"
+    else:
+        why = "its rows sit at one axial place: like a single row they carry a combined load with a tilt"
     return (f"the ring tilted freely by {tilt * 1e3:.3g} mrad ({why}); "
             "where the shaft holds it, fix the tilt: --fix bx=0,by=0 (Python: fixed={'bx': 0.0, 'by': 0.0})")
 

@@ -104,6 +104,8 @@ def test_a_four_point_row_without_contact_direction_still_builds_its_two_pairs()
     row = FourPointRow(**ROW)
     assert row.contact_direction is None
     assert [p.contact_direction for p in row.pairs()] == [1, -1]
+    assert row.describe_line().startswith("four-point balls, pairs +a0 and -a0: z=0 mm, Z=12, a0=30 deg")
+    assert row.report()["contact_direction"] is None and row.report()["n_balls"] == 12
     assert [r.contact_direction for r in QJ210.rows] == [1, -1]
     table = QJ210.to_dict()  # the round trip leaves no contact_direction
     assert "contact_direction" not in table["rows"][0]
@@ -251,7 +253,8 @@ def test_a_killed_run_not_yet_reaped_is_not_alive_and_its_lock_is_taken_over(tmp
 def test_the_four_point_bearing_says_it_tilted_freely_as_a_single_row_does():
     """QJ 210 under combined load tilts freely by about 1 mrad (held square, its L10r halves): the note."""
     r = fb.solve(QJ210, [3000.0, 0, 2000.0, 0, 0])
-    assert r.converged and r.note.startswith("the ring tilted freely by 1.19 mrad (its rows sit at one axial place")
+    assert r.converged and r.note.startswith("the ring tilted freely by 1.19 mrad (a four-point row, like a single "
+                                             "row, carries a combined load with a tilt); where the shaft holds it")
     assert "--fix bx=0,by=0" in r.note
     assert r.note.count("\n") == 0
     assert fb.solve(QJ210, [3000.0, 0, 2000.0, 0, 0], fixed={"bx": 0.0, "by": 0.0}).note == ""
@@ -260,5 +263,7 @@ def test_the_four_point_bearing_says_it_tilted_freely_as_a_single_row_does():
     assert "(a single row carries a combined load with a tilt)" in fb.solve(single, [1000.0, 0, 1000.0, 0, 0]).note
     spindle = fb.load_bearing(DATA / "7014C-DB.toml")  # a pair at two axial places holds its tilt
     assert fb.solve(spindle, [1000.0, 0, 1000.0, 0, 0]).note == ""
+    flat = fb.Bearing.from_rows([{**ROW, "contact_direction": 1}, {**ROW, "contact_direction": -1}])  # DB, e = 0
+    assert "(its rows sit at one axial place: like a single row" in fb.solve(flat, [1000.0, 0, 500.0, 0, 0]).note
     cli = cli_run("solve", "--bearing", QJ210_FILE, "--load", "3000,0,2000,0,0")
     assert cli.returncode == 0 and cli.stdout.splitlines()[1].startswith("the ring tilted freely by 1.19 mrad")

@@ -70,6 +70,14 @@ class FourPointRow(Row):
         finally:
             object.__setattr__(self, "contact_direction", None)
 
+    def describe_line(self) -> str:
+        return "four-point balls, pairs +a0 and -a0: " + ", ".join(
+            part for part in self.pairs()[0].describe_line().partition(": ")[2].split(", ")
+            if not part.startswith("s="))
+
+    def report(self) -> dict:
+        return {**self.pairs()[0].report(), "pair": None, "contact_direction": None}
+
     def pairs(self) -> tuple["ContactPair", "ContactPair"]:
         """The row's two contact pairs, +a0 (contact direction +1) then -a0 (-1)."""
         values = {f.name: getattr(self, f.name) for f in fields(Row)}
