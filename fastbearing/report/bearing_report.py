@@ -28,9 +28,9 @@ FAULT_WORDS = {"FTF": "cage (fundamental train)", "BPFO": "ball pass, outer race
 def bearing_report(bearing) -> dict:
     """A bearing's derived model parameters, JSON-ready (what `fastbearing bearing FILE --json` prints): every
     row's (lengths mm, angles deg and rad, Kn N/mm^n; a four-point row as its two contact pairs, each with
-    ``element`` "four_point_ball" and ``pair`` +1 or -1, and ``four_point_rows`` the pairs' row indices), the load-centre spread of a double row (mm), the catalogue
-    geometry's and both race contacts' where the bearing has one, and its speed limit (rpm) where it can run
-    at speed."""
+    ``element`` "four_point_ball" and ``pair`` +1 or -1, and ``four_point_rows`` the pairs' row indices), the
+    load-centre spread of a double row (mm), the catalogue geometry's and both race contacts' where the
+    bearing has one, and its speed limit (rpm) where it can run at speed."""
     rows = [r.report() for r in bearing.rows]  # each element kind reports its own row
     out = {"name": bearing.name, "arrangement": bearing.arrangement, "rows": rows}
     pairs = [i for i, r in enumerate(rows) if r.get("element") == FOUR_POINT and r["pair"] == 1]
