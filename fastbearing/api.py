@@ -52,8 +52,9 @@ class SolveResult:
         Kernel evaluations (each is one pass over all balls).
     note : str
         Where the model has no answer for this load, why, in one line (empty otherwise): e.g. a tapered
-        row under a radial load with too little axial load to hold it; or where a single row took a
-        combined load with its tilt free, that it tilted and how to fix the tilt.
+        row under a radial load with too little axial load to hold it; or where a bearing whose rows all sit
+        at one axial place (a single row, a four-point row's two contact pairs) took a combined load with its
+        tilt free, that it tilted and how to fix the tilt.
     fixed : tuple of str
         The degrees of freedom given as displacements (``fixed=``): q holds their values, f the reactions.
     """
@@ -278,6 +279,8 @@ def solve(bearing: Bearing, f, q0=None, method: str = "newton", rtol=None, max_i
         Degrees of freedom given as displacements, e.g. ``{"bx": 0.0, "by": 0.0}`` (dx, dy, dz in mm; bx, by
         in rad): the ring is held there and the load entries at those degrees of freedom, which must be 0,
         are the unknown reactions (returned in ``f``). Any subset but all five (that is :func:`stiffness`).
+        Each value at most 2 element reaches (A0 of a ball row) in mm, a tilt that reach over the largest
+        pitch radius in rad (:func:`fastbearing.boundary.fixed_bounds`).
 
     Returns
     -------
@@ -295,14 +298,14 @@ def solve(bearing: Bearing, f, q0=None, method: str = "newton", rtol=None, max_i
         ``q0`` not 5 finite numbers (strings, booleans and complex values
         are refused, not converted); ``method`` not "newton" or "broyden";
         ``rtol`` outside [1e-14, 1e-3]; ``max_iter`` not an integer in
-        [1, 10000]. Non-convergence is never raised: it is reported in
+        [1, 10000]; a ``fixed`` value beyond its bound. Non-convergence is never raised: it is reported in
         ``status`` (iteration_limit, singular, stalled, precision_limit,
         nonfinite_result ..., see :mod:`fastbearing.status`), with
         ``result.converged`` False.
     """
     bearing = _check_bearing(bearing)
     load = _as_vector(f, "f", "Fx, Fy, Fz in N; Mx, My in N*mm")
-    held = boundary.parse_fixed(fixed)
+    held = boundary.parse_fixed(fixed, bearing=bearing)
     f_target = boundary.targets(load, held)
     opts = solver_settings(bearing, method, rtol, max_iter, held.mask)
     balls = speed_ball_set(bearing, speed)
@@ -411,7 +414,7 @@ def solve_many(bearing: Bearing, f, q0=None, method: str = "newton", rtol=None, 
     device = validate.choice(device, "device", DEVICES)
     loads = as_cases(f, "f", "Fx, Fy, Fz in N; Mx, My in N*mm")
     n = loads.shape[0]
-    held = boundary.parse_fixed(fixed, n)
+    held = boundary.parse_fixed(fixed, n, bearing=bearing)
     f_targets = boundary.targets(loads, held)
     opts = solver_settings(bearing, method, rtol, max_iter, held.mask)
     balls, speeds = speed_cases(bearing, speed, n)

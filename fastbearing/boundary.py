@@ -14,7 +14,8 @@ import numpy as np
 from . import validate
 from .dofs import DISPLACEMENT_NAMES, DISPLACEMENT_UNITS, LOAD_NAMES
 
-__all__ = ["Fixed", "parse_fixed", "parse_fix_option", "names", "targets", "free_tilt_note"]
+__all__ = ["Fixed", "parse_fixed", "parse_fix_option", "names", "targets", "free_tilt_note", "fixed_bounds",
+           "check_fixed_range"]
 
 
 class Fixed:
@@ -38,10 +39,11 @@ def names(mask: int) -> list[str]:
     return [n for i, n in enumerate(DISPLACEMENT_NAMES) if (mask >> i) & 1]
 
 
-def parse_fixed(fixed, n: int | None = None, where: str = "fixed") -> Fixed:
+def parse_fixed(fixed, n: int | None = None, where: str = "fixed", bearing=None) -> Fixed:
     """Check ``fixed`` (None, or {name: value}) and return a :class:`Fixed`; ``n`` cases allow a value of n
     numbers (one per case). ValueError (FieldError) naming the field: a name that is not a degree of
-    freedom, a value that is not a finite number, all five fixed (that is a displacement given)."""
+    freedom, a value that is not a finite number, all five fixed (that is a displacement given), and with
+    ``bearing`` a value beyond :func:`fixed_bounds` (:func:`check_fixed_range`)."""
     if fixed is None:
         return Fixed(0, {})
     if not isinstance(fixed, dict):
@@ -69,7 +71,10 @@ def parse_fixed(fixed, n: int | None = None, where: str = "fixed") -> Fixed:
         raise validate.FieldError(where, "fixes all five degrees of freedom: that is a displacement given, not a "
                                   "solve (fb.stiffness, or solve --displacement on the command line)",
                                   show_value=False)
-    return Fixed(mask, values)
+    held = Fixed(mask, values)
+    if bearing is not None:
+        check_fixed_range(bearing, held, where)
+    return held
 
 
 def parse_fix_option(text: str, where: str = "--fix") -> dict:
@@ -84,10 +89,14 @@ def parse_fix_option(text: str, where: str = "--fix") -> dict:
             raise validate.FieldError(where, f"must be NAME=VALUE pairs, e.g. bx=0,by=0 (names {list(DISPLACEMENT_NAMES)};"
                                       " mm and rad)", text)
         try:
-            out[name] = float(value)
+            number = float(value)
         except ValueError:
             raise validate.FieldError(f"{where} {name}", "must be a number (mm for dx, dy, dz; rad for bx, by)",
                                       value.strip()) from None
+        if name in out:  # the last would win silently
+            raise validate.FieldError(f"{where} {name}", f"is given twice ({out[name]:g} and {number:g}); give each "
+                                      "degree of freedom once", show_value=False)
+        out[name] = number
     if not out:
         raise validate.FieldError(where, "names no degree of freedom, e.g. bx=0,by=0", text)
     return out
@@ -111,12 +120,51 @@ def targets(loads: np.ndarray, fixed: Fixed, where: str = "f") -> np.ndarray:
 
 
 def free_tilt_note(bearing, load, q) -> str:
-    """One line where a bearing that cannot hold a moment by itself (a single ball row, a single tapered
-    row) took a combined radial and axial load with every degree of freedom free: the ring tilted freely, and
-    how to hold it ("" otherwise)."""
+    """One line where a bearing that cannot hold a moment by itself (its rows all at one axial place: a single
+    ball row, a single tapered row, a four-point row's two contact pairs) took a combined radial and axial
+    load with every degree of freedom free: the ring tilted freely, and how to hold it ("" otherwise)."""
     load = np.asarray(load, float)
-    if bearing.n_rows != 1 or not (np.hypot(load[0], load[1]) > 0 and load[2] != 0):
+    if len({r.axial_offset for r in bearing.rows}) != 1 or not (np.hypot(load[0], load[1]) > 0 and load[2] != 0):
         return ""
     tilt = float(np.hypot(q[3], q[4]))
-    return (f"the ring tilted freely by {tilt * 1e3:.3g} mrad (a single row carries a combined load with a tilt); "
+    if bearing.n_rows == 1:
+        why = "a single row carries a combined load with a tilt"
+    elif bearing.n_rows == 2 and all(r.element == "four_point_ball" for r in bearing.rows):
+        why = "a four-point row, like a single row, carries a combined load with a tilt"
+    else:
+        why = "its rows sit at one axial place: like a single row they carry a combined load with a tilt"
+    return (f"the ring tilted freely by {tilt * 1e3:.3g} mrad ({why}); "
             "where the shaft holds it, fix the tilt: --fix bx=0,by=0 (Python: fixed={'bx': 0.0, 'by': 0.0})")
+
+
+#: Largest fixed displacement, in element reaches (the bearing's largest ``deflection_scale``: A0 of a ball
+#: row, about 0.05-0.1 of the ball diameter; 0.02 l of a roller row): at one reach a ball is pressed about 7
+#: times past its validity limit (0.15 A0), so two reaches are past any bearing the model describes, yet keep
+#: f and Kb finite; a tilt's bound is the same travel at the largest pitch radius.
+MAX_FIXED_REACH = 2.0
+
+
+def fixed_bounds(bearing) -> tuple[float, float]:
+    """(the largest |dx|, |dy|, |dz| in mm, the largest |bx|, |by| in rad) a fixed degree of freedom may be
+    given for ``bearing``: MAX_FIXED_REACH element reaches, the tilt that reach at the largest pitch radius."""
+    reach = max(r.deflection_scale for r in bearing.rows)
+    length = bearing.length_scale
+    return MAX_FIXED_REACH * reach, MAX_FIXED_REACH * reach / length
+
+
+def check_fixed_range(bearing, fixed: "Fixed", where: str = "fixed") -> None:
+    """FieldError naming ``where.NAME`` where a fixed displacement lies beyond :func:`fixed_bounds` (a tilt
+    of 1 rad, a displacement of 1e300 mm: singular or nonfinite in the kernel), before any kernel runs."""
+    length, tilt = fixed_bounds(bearing)
+    for name, value in fixed.values.items():
+        i = DISPLACEMENT_NAMES.index(name)
+        bound = length if i < 3 else tilt
+        worst = float(np.max(np.abs(value)))
+        if worst > bound:
+            what = (f"{MAX_FIXED_REACH:g} element reaches (the largest A0 or roller deflection scale, "
+                    f"{bound / MAX_FIXED_REACH:.4g} mm)" if i < 3 else
+                    f"{MAX_FIXED_REACH:g} element reaches ({bound * bearing.length_scale / MAX_FIXED_REACH:.4g} mm) "
+                    f"at the largest pitch radius ({bearing.length_scale:.6g} mm)")
+            raise validate.FieldError(f"{where}.{name}", f"must be in [{-bound:.4g}, {bound:.4g}] "
+                                      f"{DISPLACEMENT_UNITS[i]} for {bearing.name or 'this bearing'}: at most {what}; "
+                                      "beyond it no contact model holds", value if np.ndim(value) == 0 else worst)

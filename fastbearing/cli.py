@@ -591,7 +591,7 @@ def _bearing_command(args) -> int:
         faults = None if speed is None else fault_frequency_report(bearing, speed, load)
     except ValueError as err:  # the API's "load", as the command line spells it
         text = str(err)
-        raise ValueError("--" + text if text.startswith("load ") else text) from None
+        raise ValueError("--" + text if text.startswith(("load ", "speed ")) else text) from None
     if args.json:
         if faults is not None:
             rep["fault_frequencies"] = faults.pop("fault_frequencies")

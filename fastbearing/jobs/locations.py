@@ -95,7 +95,9 @@ class RunLock:
 
 
 def alive(pid: int) -> bool:
-    """Whether a process of this id runs (one owned by another user counts)."""
+    """Whether a process of this id runs (one owned by another user counts). A zombie (killed, e.g. by
+    ``kill -9``, but not yet reaped by its parent) does not: os.kill(pid, 0) still reaches it, so where
+    /proc exists its state letter is read, and 'Z' (zombie) or 'X' (dead) count as gone."""
     if pid == os.getpid():
         return True
     try:
@@ -103,5 +105,18 @@ def alive(pid: int) -> bool:
     except ProcessLookupError:
         return False
     except PermissionError:
-        return True
-    return True
+        pass
+    return not _zombie(pid)
+
+
+def _zombie(pid: int) -> bool:
+    """True where /proc/PID/stat says the process is a zombie or dead; False where it cannot be read (no
+    /proc: macOS, Windows) or the process runs."""
+    try:
+        with open(f"/proc/{int(pid)}/stat", "rb") as fh:
+            stat = fh.read()
+    except OSError:
+        return False
+    # "pid (comm) S ...": comm may hold spaces and parentheses, so the state follows the last ')'
+    state = stat[stat.rfind(b")") + 1:].split()[:1]
+    return state in ([b"Z"], [b"X"])

@@ -91,7 +91,15 @@ def _geometry_bearing(table: dict, where: str) -> Bearing:
             raise validate.FieldError(f"{where}.geometry.row_spacing", f"(2e, mm, >= 0) is required for arrangement "
                                       f"{model['arrangement']!r}", show_value=False)
         model["row_offset"] = geometry.row_offset
-    return replace(Bearing.from_table(model, where), geometry=geometry)
+    try:
+        built = Bearing.from_table(model, where)
+    except validate.FieldError as err:  # a key the geometry derived: name where the user typed it
+        key = err.field.rpartition(".")[2]
+        if err.field == f"{where}.{key}" and key in geometry.row_keywords() and key not in table:
+            raise validate.FieldError(f"{where}.geometry.{key}", err.rule, err.value,
+                                      show_value=err.show_value) from None
+        raise
+    return replace(built, geometry=geometry)
 
 
 def read_toml(path) -> dict:

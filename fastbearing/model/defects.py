@@ -26,13 +26,16 @@ from ..engine.schema import (A0, COS_PSI, GAP2, HALF_COUNT, INNER_RADIUS, OUTER_
 RACES = ("outer", "inner", "ball")
 PROFILES = ("rectangular", "half_sine")
 _DEFECT_KEYS = ("race", "angle", "width", "depth", "profile", "element")
+#: Largest defect ``angle`` either way, degrees: one turn covers every place (beyond it a typo, or radians
+#: taken for a huge number, and 1e300 deg loses every digit when wrapped).
+MAX_ANGLE = 360.0
 
 
 @dataclass(frozen=True)
 class Defect:
     """One local defect: ``race`` ("outer", "inner" or "ball": the ball number ``element`` in the bearing's
-    element record), ``angle`` (deg: where its centre is at position 0, from +x on a race; on a ball from
-    its outer contact point), ``width`` (mm along the raceway or the ball's surface, > 0), ``depth`` (mm,
+    element record), ``angle`` (deg, in [-360, 360]: where its centre is at position 0, from +x on a race; on a
+    ball from its outer contact point), ``width`` (mm along the raceway or the ball's surface, > 0), ``depth`` (mm,
     >= 0), ``profile`` ("rectangular" or "half_sine": depth cos(pi x / width) across it)."""
 
     race: str
@@ -71,7 +74,8 @@ def parse_defects(spec, bearing, where: str = "passage.defects") -> tuple[Defect
             element = validate.integer(d["element"], f"{at}.element", low=0, high=bearing.n_balls - 1)
         elif "element" in d:
             raise validate.FieldError(f"{at}.element", "goes with race = \"ball\" only", d["element"])
-        out.append(Defect(race, validate.number(d.get("angle", 0.0), f"{at}.angle", units="degrees"),
+        out.append(Defect(race, validate.number(d.get("angle", 0.0), f"{at}.angle", low=-MAX_ANGLE, high=MAX_ANGLE,
+                                                units="degrees"),
                           validate.number(d["width"], f"{at}.width", low=0, low_open=True, units="mm"),
                           validate.number(d["depth"], f"{at}.depth", low=0, units="mm"),
                           validate.choice(d.get("profile", "rectangular"), f"{at}.profile", PROFILES), element))

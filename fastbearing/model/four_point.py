@@ -23,6 +23,22 @@ from .ball_row import Row
 ELEMENT = "four_point_ball"
 
 
+def check_contact_angle(contact_angle) -> None:
+    """FieldError unless a four-point row's ``contact_angle`` a0 is in (0, 90) degrees.
+
+    At a0 = 0 the two arcs of each ring are one groove: the row's two contact pairs would be the same contact
+    counted twice (every ball twice: kxx about 1.56 and L10r about 3.5 times the plain row's). Such a bearing
+    is a deep-groove ball row (element = "ball", contact_angle = 0). No larger fixed minimum: whether a
+    ring's two contact ellipses, at +a0 and -a0 on the ball, stay apart depends on the load as well (each
+    spans about 2a/D rad either side of its contact point, a its semi-major axis, D the ball diameter), and a
+    row above 0 but below 1 degree already warns that it was probably typed in radians."""
+    if validate._is_number(contact_angle) and float(contact_angle) == 0.0:
+        raise validate.FieldError("contact_angle", f"must be in (0, 90) degrees for a four-point row (element = "
+                                  f"'{ELEMENT}'): at 0 its two arcs on each ring are one groove and every ball "
+                                  "would count twice; give a ball row (element = 'ball', contact_angle = 0) for a "
+                                  "deep-groove bearing", contact_angle)
+
+
 @dataclass(frozen=True)
 class FourPointRow(Row):
     """A four-point contact ball row as a user gives it: the keys of :class:`fastbearing.Row`, with
@@ -31,20 +47,36 @@ class FourPointRow(Row):
     ``radial_clearance``, which presses all four contacts). A :class:`fastbearing.Bearing` holds it as its
     :meth:`pairs`."""
 
+    #: Not given: a four-point row's balls touch on both diagonals (None; any value given is refused).
+    contact_direction: int | None = None
+
     element = ELEMENT
     element_word = "balls"
     defect_races = ()  # as its contact pairs'
 
     def __post_init__(self):
-        if self.contact_direction != 1:
+        if self.contact_direction is not None:  # also an explicit +1: the key has no meaning here
             raise validate.FieldError("contact_direction", "is not given for a four-point row (element = "
-                                      f"'{ELEMENT}'): its balls touch on both diagonals, +a0 and -a0",
-                                      self.contact_direction)
+                                      f"'{ELEMENT}'): its balls touch on both diagonals, +a0 and -a0; remove the "
+                                      "key", self.contact_direction)
         if self.axial_preload != 0:
             raise validate.FieldError("axial_preload", f"must be 0 for a four-point row (element = '{ELEMENT}'): "
                                       "preload it with a negative radial_clearance, which presses all four "
                                       "contacts", self.axial_preload)
-        super().__post_init__()
+        check_contact_angle(self.contact_angle)
+        object.__setattr__(self, "contact_direction", 1)  # the ball row's checks, then back to "not given"
+        try:
+            super().__post_init__()
+        finally:
+            object.__setattr__(self, "contact_direction", None)
+
+    def describe_line(self) -> str:
+        return "four-point balls, pairs +a0 and -a0: " + ", ".join(
+            part for part in self.pairs()[0].describe_line().partition(": ")[2].split(", ")
+            if not part.startswith("s="))
+
+    def report(self) -> dict:
+        return {**self.pairs()[0].report(), "pair": None, "contact_direction": None}
 
     def pairs(self) -> tuple["ContactPair", "ContactPair"]:
         """The row's two contact pairs, +a0 (contact direction +1) then -a0 (-1)."""
@@ -69,6 +101,7 @@ class ContactPair(Row):
         if self.axial_preload != 0:  # with_rows or a hand-built pair: the row's rule holds for its pairs
             raise validate.FieldError("axial_preload", f"must be 0 for a four-point row (element = '{ELEMENT}'): "
                                       "preload it with a negative radial_clearance", self.axial_preload)
+        check_contact_angle(self.contact_angle)
         super().__post_init__()
 
     def describe_line(self) -> str:

@@ -10,10 +10,14 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
+from .. import status as status_codes
 from .. import validate
 from ..analysis.faults import NAMES as FAULT_NAMES
 from ..analysis.faults import fault_frequencies
-from ..model.bearing import check_speed_model, speed_limit
+from ..model.bearing import MAX_SPEED, check_speed_model, speed_limit
+from ..model.four_point import ELEMENT as FOUR_POINT
 from ..model.geometry import load_centre_spread
 
 #: What each fault frequency is, in words (the text report's second column).
@@ -23,11 +27,15 @@ FAULT_WORDS = {"FTF": "cage (fundamental train)", "BPFO": "ball pass, outer race
 
 def bearing_report(bearing) -> dict:
     """A bearing's derived model parameters, JSON-ready (what `fastbearing bearing FILE --json` prints): every
-    row's (lengths mm, angles deg and rad, Kn N/mm^n), the load-centre spread of a double row (mm), the catalogue
-    geometry's and both race contacts' where the bearing has one, and its speed limit (rpm) where it can run
-    at speed."""
+    row's (lengths mm, angles deg and rad, Kn N/mm^n; a four-point row as its two contact pairs, each with
+    ``element`` "four_point_ball" and ``pair`` +1 or -1, and ``four_point_rows`` the pairs' row indices), the
+    load-centre spread of a double row (mm), the catalogue geometry's and both race contacts' where the
+    bearing has one, and its speed limit (rpm) where it can run at speed."""
     rows = [r.report() for r in bearing.rows]  # each element kind reports its own row
     out = {"name": bearing.name, "arrangement": bearing.arrangement, "rows": rows}
+    pairs = [i for i, r in enumerate(rows) if r.get("element") == FOUR_POINT and r["pair"] == 1]
+    if pairs:  # each four-point row is held as its two contact pairs, +a0 then -a0
+        out["four_point_rows"] = [[i, i + 1] for i in pairs]
     if bearing.arrangement in ("DB", "DF", "DT") and not bearing.roller_rows:
         r = bearing.rows[1]
         out["load_centre_spread"] = load_centre_spread(bearing.arrangement, r.axial_offset, r.pitch_radius,
@@ -65,7 +73,13 @@ def bearing_report(bearing) -> dict:
 
 def bearing_report_text(rep: dict, bearing) -> str:
     """The report of :func:`bearing_report` as `fastbearing bearing FILE` prints it (units beside every value)."""
-    lines = [f"{rep['name'] or 'bearing'}: {rep['arrangement']}, {len(rep['rows'])} row(s)"]
+    pairs = sum(r.get("element") == FOUR_POINT for r in rep["rows"])
+    if pairs:  # a four-point row is held as its two contact pairs: say so, and what the rows below are
+        held = "; ".join(f"rows {a} (+a0) and {b} (-a0)" for a, b in rep["four_point_rows"])
+        lines = [f"{rep['name'] or 'bearing'}: {rep['arrangement']}, {len(rep['rows']) - pairs // 2} row(s), "
+                 f"{pairs // 2} of them four-point contact ball, each held as its two contact pairs: {held} below"]
+    else:
+        lines = [f"{rep['name'] or 'bearing'}: {rep['arrangement']}, {len(rep['rows'])} row(s)"]
     rg = rep.get("roller_geometry")
     if rg is not None:
         lines += ["catalogue geometry:",
@@ -86,7 +100,8 @@ def bearing_report_text(rep: dict, bearing) -> str:
                   f"  ball diameter        D  = {g['ball_diameter']:g} mm",
                   f"  pitch diameter       dm = {g['pitch_diameter']:g} mm",
                   f"  groove ratios        fi = {g['inner_groove_ratio']:g}, fo = {g['outer_groove_ratio']:g}",
-                  f"  contact angle        a0 = {g['contact_angle_deg']:g} deg",
+                  f"  contact angle        a0 = {g['contact_angle_deg']:g} deg"
+                  + (" (each contact pair of the four-point row: +a0 and -a0)" if pairs else ""),
                   f"  diametral clearance  Pd = {g['diametral_clearance']:g} mm"]
         if g["row_spacing"] is not None:
             lines.append(f"  row spacing          2e = {g['row_spacing']:g} mm")
@@ -102,7 +117,7 @@ def bearing_report_text(rep: dict, bearing) -> str:
                          f"sum rho = {c['curvature_sum']:.5g} 1/mm")
     lines.append("model parameters:")
     for i, r in enumerate(rep["rows"]):
-        if "element" in r:
+        if "element" in r and r["element"] != FOUR_POINT:  # a roller row
             lines += [f"  row {i}: {r['element'].replace('_', ' ')}s, z = {r['axial_offset']:g} mm, contact direction "
                       f"{r['contact_direction']:+d}, Z = {r['n_rollers']}",
                       f"    line-contact constant      K  = {r['hertz_constant']:.6g} N/mm^(10/9) (whole roller)",
@@ -116,7 +131,10 @@ def bearing_report_text(rep: dict, bearing) -> str:
             if r["axial_preload"]:
                 lines.append(f"    axial preload              d0 = {r['axial_preload']:.6g} mm")
             continue
-        lines += [f"  row {i}: z = {r['axial_offset']:g} mm, contact direction {r['contact_direction']:+d}, "
+        pair = (f"four-point balls, contact pair {'+' if r['pair'] > 0 else '-'}a0 (with row "
+                f"{i + 1 if r['pair'] > 0 else i - 1}: one four-point row, the same balls), "
+                if r.get("element") == FOUR_POINT else "")
+        lines += [f"  row {i}: {pair}z = {r['axial_offset']:g} mm, contact direction {r['contact_direction']:+d}, "
                   f"Z = {r['n_balls']}",
                   f"    Hertz constant             Kn = {r['hertz_constant']:.6g} N/mm^{r['exponent']:g}",
                   f"    groove-centre distance     A0 = {r['groove_center_distance']:.6g} mm",
@@ -163,12 +181,20 @@ def fault_frequency_report(bearing, speed, load=None) -> dict:
     {name: {"hz": ..., "order": ...}} for FTF, BPFO, BPFI, BSF and ball_defect (= 2 BSF), order in multiples
     of f_r.
 
-    Raises ValueError (one line) for a speed that is not finite and > 0 (naming ``speed``), a bearing without
+    Where the solve at ``load`` flags ``beyond_validity`` (a ball's deflection past its row's validity limit,
+    the 4200 N/mm^2 Hertz pressure by default: about C0), the dict also holds ``warning``, a line that says
+    the loaded contact angle is outside the model's validity (the text report prints it).
+
+    Raises ValueError (one line) for a speed that is not finite and > 0 or above the bearing's speed limit
+    (:func:`fastbearing.model.bearing.speed_limit`, rpm; MAX_SPEED, 2e6 rpm, where it has no high-speed
+    model) (naming ``speed``), a load larger than MAX_LOAD_OVER_C0 (10) times the bearing's static load
+    rating C0 (:func:`load_size`; naming ``load``; before the solve), a bearing without
     catalogue geometry (naming what is missing), a load that is not 5 finite numbers (naming ``load``), does
     not solve, or leaves every ball unloaded. Roller bearings: D is the mean roller diameter, and a roller
     row's contact angle does not change with load.
     """
     rpm = validate.number(speed, "speed", low=0, low_open=True, units="rpm")
+    _check_report_speed(bearing, rpm)
     g = bearing.geometry
     if g is None:
         raise ValueError(f"{bearing.name or 'this bearing'} has no [bearing.geometry] table: fault frequencies need "
@@ -185,10 +211,12 @@ def fault_frequency_report(bearing, speed, load=None) -> dict:
         from ..api import _as_vector, solve
 
         f = [float(v) for v in _as_vector(load, "load", "Fx, Fy, Fz in N; Mx, My in N*mm")]
+        _check_report_load(bearing, f)
         result = solve(bearing, f)
         if not result.converged:
             raise ValueError(f"load {_load_text(f)}: the bearing has no solution there ({result.status_name})"
                              + (f": {result.note}" if result.note else ""))
+        beyond = bool(int(result.status) & status_codes.BEYOND_VALIDITY)
         c = ball_contacts(bearing, result.q)
         on = c.load > 0
         loaded = int(on.sum())
@@ -196,9 +224,59 @@ def fault_frequency_report(bearing, speed, load=None) -> dict:
             raise ValueError(f"load {_load_text(f)}: no {element} carries load there, so there is no loaded contact "
                              "angle (leave the load out for the nominal one)")
         angle, source = math.degrees(float(abs(c.contact_angle[on]).mean())), "loaded"
-    return {"speed_rpm": rpm, "shaft_frequency_hz": rpm / 60.0, "element": element, "rotating": rotating,
-            "contact_angle_deg": angle, "contact_angle_source": source, "load": f, "loaded_contacts": loaded,
-            "fault_frequencies": fault_frequencies(D, g.pitch_diameter, Z, rpm, angle, rotating)}
+    out = {"speed_rpm": rpm, "shaft_frequency_hz": rpm / 60.0, "element": element, "rotating": rotating,
+           "contact_angle_deg": angle, "contact_angle_source": source, "load": f, "loaded_contacts": loaded,
+           "fault_frequencies": fault_frequencies(D, g.pitch_diameter, Z, rpm, angle, rotating)}
+    if load is not None and beyond:
+        out["warning"] = (f"beyond_validity: at this load a {element}'s deflection exceeds its row's validity "
+                          "limit (the Hertz pressure limit, 4200 N/mm^2 by default: about the static load rating "
+                          "C0); the loaded contact angle, and the frequencies from it, are outside the model's "
+                          "validity")
+    return out
+
+
+#: Largest load `fastbearing bearing --speed --load` takes, in multiples of the bearing's static load rating C0
+#: (ISO 76): at C0 the most loaded contact already reaches 4200 N/mm^2 (ball) or 4000 N/mm^2 (roller), the
+#: model's validity limit; no catalogue rates a bearing beyond S0 = C0/P0 = 0.5, and a static equivalent load
+#: P0 is at least about a quarter of the load's size in any direction, so 10 C0 is past every rated use.
+MAX_LOAD_OVER_C0 = 10.0
+
+
+def load_size(bearing, f) -> float:
+    """A load's size in N: |(Fx, Fy, Fz)| + |(Mx, My)| / r, r (mm) the largest pitch radius plus axial offset
+    of the bearing's rows (a moment as the force at the rows' reach)."""
+    arm = max(r.pitch_radius + abs(r.axial_offset) for r in bearing.rows)
+    return math.hypot(f[0], f[1], f[2]) + math.hypot(f[3], f[4]) / arm
+
+
+def _check_report_load(bearing, f) -> None:
+    """FieldError ``load`` when its size (:func:`load_size`) exceeds MAX_LOAD_OVER_C0 times the bearing's C0
+    (N); no check where the bearing has no rating (life.ratings refuses it)."""
+    from ..analysis.life import ratings
+
+    try:
+        r = ratings(bearing)
+    except ValueError:
+        return
+    C0 = r.C0 if r.C0 is not None else float(np.sum(r.C0_row))
+    size = load_size(bearing, f)
+    if C0 > 0 and size > MAX_LOAD_OVER_C0 * C0:
+        raise validate.FieldError("load", f"{_load_text(f)} is {size / C0:.3g} x the static load rating C0 = "
+                                  f"{C0:.6g} N of {bearing.name or 'this bearing'}: it must be <= "
+                                  f"{MAX_LOAD_OVER_C0:g} C0 (size |F| + |M|/r, r = "
+                                  f"{max(r_.pitch_radius + abs(r_.axial_offset) for r_ in bearing.rows):.6g} mm); "
+                                  "beyond it no contact model holds", show_value=False)
+
+
+def _check_report_speed(bearing, rpm: float) -> None:
+    """The speed rule of `fastbearing solve`: at most MAX_SPEED (2e6 rpm), and at most the bearing's
+    :func:`speed_limit` (rpm) where it has the high-speed model; FieldError ``speed``."""
+    validate.number(rpm, "speed", low=0, high=MAX_SPEED, low_open=True, units="rpm")
+    try:
+        check_speed_model(bearing)
+    except ValueError:  # roller rows, no geometry: the sanity bound alone
+        return
+    check_speed_model(bearing, rpm, "speed")
 
 
 def _load_text(f, brackets: bool = True) -> str:
@@ -211,7 +289,8 @@ def fault_frequency_text(ff: dict) -> str:
     per frequency, in Hz and as an order of the shaft frequency f_r."""
     if ff["contact_angle_source"] == "loaded":
         angle = (f"loaded contact angle {ff['contact_angle_deg']:.4g} deg (mean of {ff['loaded_contacts']} loaded "
-                 f"{ff.get('element', 'ball')} contacts at {_load_text(ff['load'], False)})")
+                 f"{ff.get('element', 'ball')} contacts at {_load_text(ff['load'], False)}"
+                 + ("; OUTSIDE THE MODEL'S VALIDITY" if "warning" in ff else "") + ")")
     else:
         angle = f"nominal contact angle {ff['contact_angle_deg']:g} deg"
     lines = [f"fault frequencies at {ff['speed_rpm']:g} rpm (shaft f_r = {ff['shaft_frequency_hz']:.6g} Hz), "
@@ -219,4 +298,6 @@ def fault_frequency_text(ff: dict) -> str:
     for name in FAULT_NAMES:
         v = ff["fault_frequencies"][name]
         lines.append(f"  {name:<12s} {FAULT_WORDS[name]:<25s} {v['hz']:10.4f} Hz  {v['order']:8.5f} x f_r")
+    if "warning" in ff:
+        lines.append(f"warning: {ff['warning']}")
     return "\n".join(lines)
