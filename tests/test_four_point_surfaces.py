@@ -267,3 +267,16 @@ def test_the_four_point_bearing_says_it_tilted_freely_as_a_single_row_does():
     assert "(its rows sit at one axial place: like a single row" in fb.solve(flat, [1000.0, 0, 500.0, 0, 0]).note
     cli = cli_run("solve", "--bearing", QJ210_FILE, "--load", "3000,0,2000,0,0")
     assert cli.returncode == 0 and cli.stdout.splitlines()[1].startswith("the ring tilted freely by 1.19 mrad")
+
+
+@pytest.mark.parametrize("job", ["loadmap", "passage"])
+def test_a_job_tables_fixed_values_beyond_the_bearings_reach_are_refused(tmp_path, job):
+    """A job table's fixed displacement (a number or an axis) is bounded as --fix is: a 1 rad tilt or a 1e300
+    mm displacement is refused naming the field, before any kernel runs, and no output is written."""
+    out = tmp_path / "x.h5"
+    run = fb.loadmap if job == "loadmap" else fb.passage
+    for fixed, name in (({"bx": 0.0, "by": 1.0}, "by"), ({"bx": {"start": 0.0, "stop": 1e300, "num": 3}}, "bx")):
+        cfg = {"bearing": {"preset": "gunduz2013"}, job: {"given": "load", "Fx": 1000.0, "fixed": fixed}}
+        with pytest.raises(ValueError, match=rf"{job}\.fixed\.{name} must be in \["):
+            run(cfg, out, progress=False)
+        assert not out.exists()

@@ -332,6 +332,14 @@ def fixed_mask(spec: dict, given: str, names, where: str) -> int:
     return held.mask
 
 
+def check_fixed_axes(bearing, axes, fixed: int, where: str) -> None:
+    """FieldError naming ``where.fixed.NAME`` where a job table's fixed displacement (a number or an axis)
+    lies beyond what the bearing's contacts describe (boundary.fixed_bounds), before any kernel runs."""
+    if fixed:
+        held = {DISPLACEMENT_NAMES[i]: np.asarray(axes[i].values, float) for i in range(5) if (fixed >> i) & 1}
+        boundary.check_fixed_range(bearing, boundary.Fixed(fixed, held), f"{where}.fixed")
+
+
 def input_axes(spec: dict, names, units, fixed: int, where: str) -> tuple:
     """The five input axes of a grid (load or displacement names and units), each from ``spec`` (a number or
     an axis, absent: 0); a fixed degree of freedom's (bit i of ``fixed``) is its displacement from

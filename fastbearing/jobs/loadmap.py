@@ -25,7 +25,7 @@ from ..model.bearing import Bearing, check_speed, check_speed_model
 from ..model.bearing_file import read_job_config
 from .. import boundary
 from ..dofs import AXES, UNITS
-from .grid import Axis, CaseSet, fixed_mask, input_axes, parse_axis, read_case_file, segment_starts
+from .grid import Axis, CaseSet, check_fixed_axes, fixed_mask, input_axes, parse_axis, read_case_file, segment_starts
 from .runner import open_dataset  # noqa: F401 (public: fb.open_dataset)
 from ..analysis.life import LifeSettings, iso_life, life_table, ratings
 from ..engine.sweep import map_sweep
@@ -113,6 +113,7 @@ def read_config(config) -> LoadMapConfig:
         cases = CaseSet(given, table=table)
     else:
         axes = list(input_axes(spec, names, UNITS[given], fixed, "loadmap"))
+        check_fixed_axes(bearing, axes, fixed, "loadmap")
         speed = None
         if "speed" in spec:
             values, is_dim = parse_axis("speed", spec["speed"], "loadmap")

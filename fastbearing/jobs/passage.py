@@ -31,7 +31,7 @@ from ..model.bearing import Bearing, check_speed, check_speed_model, rpm_to_rad_
 from ..model.bearing_file import read_job_config
 from ..dofs import AXES, K_ENTRIES, K_UNITS, UNITS
 from ..files import publish
-from .grid import CaseSet, fixed_mask, input_axes
+from .grid import CaseSet, check_fixed_axes, fixed_mask, input_axes
 from ..analysis.faults import fault_frequencies, fault_orders
 from ..model.bearing import without_mirror_half
 from ..model.defects import (Kinematics, element_depths, parse_defects, table_azimuths, with_ball_defects,
@@ -143,7 +143,9 @@ def read_config(config) -> PassageConfig:
         table = np.array([validate.numbers_list(p, f"passage.points[{i}]", 5) for i, p in enumerate(points)])
         cases = CaseSet(given, table=table, table_dim="point")
     elif axes_given:
-        cases = CaseSet(given, axes=input_axes(spec, names, UNITS[given], fixed, "passage"), table_dim="point")
+        axes = input_axes(spec, names, UNITS[given], fixed, "passage")
+        check_fixed_axes(bearing, axes, fixed, "passage")
+        cases = CaseSet(given, axes=axes, table_dim="point")
         if not cases.dims:  # constants only: one operating point
             cases = CaseSet(given, table=cases.inputs(0, 1), table_dim="point")
     else:
