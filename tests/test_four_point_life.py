@@ -59,6 +59,9 @@ def test_ratings_count_both_contact_pairs_and_each_pair_keeps_its_own():
     assert r.C0 == pytest.approx(L.iso_static_rating(g, rows=2), rel=1e-12)
     np.testing.assert_allclose(r.C_row, L.iso_dynamic_rating(g), rtol=1e-12)
     np.testing.assert_allclose(r.C0_row, L.iso_static_rating(g), rtol=1e-12)
+    # ISO/TS 16281's raceway ratings from the unit: Q_c = C / (0.407 Z i^0.7 cos a) (...)^0.3 with i = 2 is
+    # the pair's own, from C_row with i = 1: the unit's C and the rows' C are one rule
+    np.testing.assert_allclose(r.Q_ci, L.contact_ratings(g, r.C / 2 ** 0.7)[0], rtol=1e-12)
     # a catalogue's C, C0 are the bearing's (the unit's): each pair gets C / 2^0.7, C0 / 2, as a DB pair's rows
     listed = replace(QJ210, geometry=replace(g, dynamic_load_rating=64000.0, static_load_rating=60000.0))
     rl = L.ratings(listed)
