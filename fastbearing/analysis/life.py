@@ -3,7 +3,9 @@ life L10r from the solved load distribution, static safety.
 
 Units: loads N, lengths mm, lives in million revolutions (hours with a shaft speed in rpm), pressures
 N/mm^2. Every row is rated as a single-row bearing of its geometry (i = 1); a double row or a tandem
-pair is the sum of its rows, as ISO 281 treats a pair mounted as a unit.
+pair is the sum of its rows, as ISO 281 treats a pair mounted as a unit; so is a four-point row, whose two
+contact pairs are a double-row angular contact bearing's two rows (i = 2 and the double-row X, Y, X0, Y0,
+as the makers' QJ tables: docs/life.md, "Four-point contact ball bearings").
 
 Sources (the standards' formulas as transcribed in public code, checked against each other; the
 standards themselves are not public):
