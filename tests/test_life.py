@@ -324,3 +324,32 @@ def test_contamination_without_kappa_is_refused_not_ignored():
     s = cli_run("solve", "--bearing", BEARINGS / "6305.toml", "--load", "1000,0,0,0,0", "--life", "--contamination",
                 "0.5")
     assert s.returncode == 2 and "--contamination goes with --kappa" in s.stderr and "Traceback" not in s.stderr
+
+
+@pytest.mark.parametrize("dtype", ["float64", "float32"])
+def test_a_speed_map_with_life_warns_of_nothing(tmp_path, dtype):
+    """Issue 47 item 9: the 7014C speed map with life = true printed numpy's "overflow encountered in
+    divide" on every run: the hours at 0 rpm were L10 / 1e-300. A standstill case lasts for ever (inf h)
+    without a division, and every other number is as before. Stored as float32, a life beyond its range
+    (L10 ~ 1e52 under the noise-level load of the unloaded case at speed) is inf without "overflow
+    encountered in cast"."""
+    import warnings
+
+    from fastbearing.model.bearing_file import read_toml
+
+    doc = read_toml(Path(__file__).resolve().parents[1] / "data" / "examples" / "spindle-7014-speed.toml")
+    doc["loadmap"] = {"given": "load", "speed": [0.0, 12000.0], "Fx": [0.0, 500.0],
+                      "Fz": {"start": 0.0, "stop": 600.0, "num": 3}, "life": True, "dtype": dtype}
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # any RuntimeWarning (numpy's overflow) fails the run
+        out = fb.loadmap(doc, tmp_path / "m.h5", progress=False)
+    with h5py.File(out, "r") as fh:
+        assert (fh["status"][()] == 0).all()
+        assert np.isinf(fh["L10r_hours"][0]).all() and np.isinf(fh["L10_hours"][0]).all()
+        for name in ("L10r", "L10"):
+            lives, hours = fh[name][1].astype(float), fh[f"{name}_hours"][1].astype(float)
+            finite = np.isfinite(hours)
+            np.testing.assert_allclose(hours[finite], lives[finite] * 1e6 / (60.0 * 12000.0),
+                                       rtol=1e-12 if dtype == "float64" else 1e-6)
+            assert finite.all() if dtype == "float64" else finite.sum() >= 5
+

@@ -3,7 +3,9 @@ life L10r from the solved load distribution, static safety.
 
 Units: loads N, lengths mm, lives in million revolutions (hours with a shaft speed in rpm), pressures
 N/mm^2. Every row is rated as a single-row bearing of its geometry (i = 1); a double row or a tandem
-pair is the sum of its rows, as ISO 281 treats a pair mounted as a unit.
+pair is the sum of its rows, as ISO 281 treats a pair mounted as a unit; so is a four-point row, whose two
+contact pairs are a double-row angular contact bearing's two rows (i = 2 and the double-row X, Y, X0, Y0,
+as the makers' QJ tables: docs/life.md, "Four-point contact ball bearings").
 
 Sources (the standards' formulas as transcribed in public code, checked against each other; the
 standards themselves are not public):
@@ -211,12 +213,16 @@ def roller_equivalent_load(Fr, Fa, alpha_deg: float, unit_rows: bool):
     if alpha_deg == 0.0:
         return Fr
     t = math.tan(math.radians(alpha_deg))
-    e = 1.5 * t
-    with np.errstate(divide="ignore", invalid="ignore"):
-        ratio = np.where(Fr > 0, Fa / np.maximum(Fr, 1e-300), np.inf)
+    below = _at_most(Fr, Fa, 1.5 * t)
     if unit_rows:
-        return np.where(ratio <= e, Fr + 0.45 / t * Fa, 0.67 * Fr + 0.67 / t * Fa)
-    return np.where(ratio <= e, Fr, 0.4 * Fr + 0.4 / t * Fa)
+        return np.where(below, Fr + 0.45 / t * Fa, 0.67 * Fr + 0.67 / t * Fa)
+    return np.where(below, Fr, 0.4 * Fr + 0.4 / t * Fa)
+
+
+def _at_most(Fr, Fa, e):
+    """Fa/Fr <= e (ISO 281's choice of X, Y), as Fa <= e Fr: no division, so Fr = 0 (a pure axial load, above
+    every e) needs no stand-in divisor. Fr, Fa >= 0 in N, e >= 0; arrays broadcast."""
+    return Fa <= e * Fr
 
 
 def roller_static_factors(alpha_deg: float, unit_rows: bool) -> tuple[float, float]:
@@ -265,8 +271,6 @@ def equivalent_load(Fr, Fa, alpha_deg: float, f0: float, C0r: float, unit_rows: 
     double-row factors (a DB or DF pair as a unit); below 17.5 deg Y and e follow the relative axial load
     f0 Fa / C0r. Fr, Fa >= 0 in N (arrays broadcast)."""
     Fr, Fa = np.asarray(Fr, float), np.asarray(Fa, float)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        ratio = np.where(Fr > 0, Fa / np.maximum(Fr, 1e-300), np.inf)
     if alpha_deg < 17.5:  # the f0 Fa / C0r tables (0, 10, 15 deg; 5 deg as radial contact)
         key = 0 if alpha_deg < 7.5 else (10 if alpha_deg < 12.5 else 15)
         rel = np.clip(f0 * Fa / C0r, _RELATIVE_AXIAL[0], _RELATIVE_AXIAL[-1])
@@ -274,14 +278,14 @@ def equivalent_load(Fr, Fa, alpha_deg: float, f0: float, C0r: float, unit_rows: 
         if unit_rows:
             y_below, X, Ys = _Y_DOUBLE_SMALL[key]
             Yb, Ya = np.interp(rel, _RELATIVE_AXIAL, y_below), np.interp(rel, _RELATIVE_AXIAL, Ys)
-            return np.where(ratio <= e, Fr + Yb * Fa, X * Fr + Ya * Fa)
+            return np.where(_at_most(Fr, Fa, e), Fr + Yb * Fa, X * Fr + Ya * Fa)
         X, Ys = _Y_SINGLE_SMALL[key]
-        return np.where(ratio <= e, Fr, X * Fr + np.interp(rel, _RELATIVE_AXIAL, Ys) * Fa)
-    if unit_rows:
+        return np.where(_at_most(Fr, Fa, e), Fr, X * Fr + np.interp(rel, _RELATIVE_AXIAL, Ys) * Fa)
+    if unit_rows:  # a DB or DF pair, or a four-point row (its two contact pairs: docs/life.md)
         y_below, X, Y, e = _by_angle(_DOUBLE_FIXED, alpha_deg)
-        return np.where(ratio <= e, Fr + y_below * Fa, X * Fr + Y * Fa)
+        return np.where(_at_most(Fr, Fa, e), Fr + y_below * Fa, X * Fr + Y * Fa)
     X, Y, e = _by_angle(_SINGLE_FIXED, alpha_deg)
-    return np.where(ratio <= e, Fr, X * Fr + Y * Fa)
+    return np.where(_at_most(Fr, Fa, e), Fr, X * Fr + Y * Fa)
 
 
 def iso_life(r, Fr, Fa):
@@ -293,9 +297,9 @@ def iso_life(r, Fr, Fa):
     else:
         P = equivalent_load(Fr, Fa, r.contact_angle, r.f0, r.C0, r.double_row)
     P = np.asarray(P, float)
-    with np.errstate(divide="ignore", over="ignore"):  # a vanishing load: an infinite life
-        L10 = np.where(P > 0, (r.C / np.maximum(P, 1e-300)) ** r.life_exponent, np.inf)
-    return P, L10
+    ratio = np.divide(r.C, P, out=np.full(P.shape, np.inf), where=P > 0)  # no load: an infinite life
+    with np.errstate(over="ignore"):  # C/P beyond 1e102 (a load of ~1e-98 N): a life past float range is inf
+        return P, ratio ** r.life_exponent
 
 
 def static_equivalent_load(Fr, Fa, alpha_deg: float, unit_rows: bool, rollers: bool = False):
@@ -377,6 +381,7 @@ class BearingRatings:
     element: str = "ball"
     slices: np.ndarray | None = None        # roller rows: laminae per roller
     slice_first: np.ndarray | None = None   # roller rows: where each row's slices start in the slice record
+    four_point: bool = False                # one four-point row: its two contact pairs are ISO's two rows (i = 2)
 
     @property
     def rollers(self) -> bool:
@@ -408,15 +413,28 @@ def ratings(bearing) -> BearingRatings:
     if g.contact_angle > 45.0:
         raise ValueError(f"bearing.geometry.contact_angle: life covers radial and angular contact ball rows "
                          f"(contact angle <= 45 deg); thrust ball rows ({g.contact_angle:g} deg) are not rated yet")
+    four_point = is_four_point(bearing)
     unit = bearing.arrangement in ("single", "DB", "DF", "DT")
-    rows = 1 if bearing.arrangement == "single" or not unit else 2
+    rows = 2 if four_point or (unit and bearing.arrangement != "single") else 1
     C_row, C0_row = row_ratings(g, rows)
     Qci, Qce = contact_ratings(g, C_row)
     n = bearing.n_rows
     C, C0 = (C_row * rows ** 0.7, C0_row * rows) if unit else (None, None)
     return BearingRatings(np.full(n, C_row), np.full(n, C0_row), _interp(gamma(g), F0_GAMMA, F0), np.full(n, Qci), np.full(n, Qce),
                           np.array([r.n_balls for r in bearing.rows], float), C, C0, g.contact_angle,
-                          bearing.arrangement in ("DB", "DF"), g.pitch_diameter)
+                          four_point or bearing.arrangement in ("DB", "DF"), g.pitch_diameter, four_point=four_point)
+
+
+def is_four_point(bearing) -> bool:
+    """True for a bearing of one four-point contact ball row (QJ type; held as its two contact pairs, rows +a0
+    and -a0), which life rates as ISO 281's and ISO 76's double-row angular contact bearing (docs/life.md,
+    "Four-point contact ball bearings"): i = 2 in C and C0, Table 3's double-row X, Y, e and ISO 76's
+    X0 = 1, Y0 = 2 Y0(single row). Several four-point rows, or mixed with other rows, are no ISO unit: False,
+    and their arrangement decides as for any other set of rows."""
+    from ..model.four_point import ELEMENT
+
+    return (bearing.arrangement == "single" and bearing.n_rows == 2
+            and all(getattr(r, "element", None) == ELEMENT for r in bearing.rows))
 
 
 def _roller_ratings(bearing, g) -> BearingRatings:
@@ -627,6 +645,9 @@ def life(bearing, load, q, settings: LifeSettings | None = None) -> LifeResult:
             notes.append("ISO 281's P has no moment: L10 ignores Mx, My; L10r includes them")
         if r.rollers and r.contact_angle == 0.0 and Fa > 0:
             notes.append("ISO 281's P of a cylindrical roller bearing is Fr alone: L10 ignores Fz")
+        if r.four_point:
+            notes.append("a four-point row is rated as a double row of its two contact pairs (ISO 281 i = 2, "
+                         "Table 3's double-row X, Y; ISO 76 X0 = 1): C = 2^0.7 C_row, C0 = 2 C0_row")
     else:
         notes.append(f"ISO 281 rates single rows and pairs as a unit, not a {bearing.arrangement} set: "
                      "L10 and S0 are given per row only through L10r")

@@ -194,11 +194,14 @@ def _iso_lives(res: dict, r, rpm) -> None:
         _, L10 = iso_life(r, np.hypot(f[:, 0], f[:, 1]), np.abs(f[:, 2]))
         res["L10"][...] = np.where(solved, L10, np.nan)
     if "L10r_hours" in res:
-        with np.errstate(divide="ignore"):
-            per_hour = np.where(rpm > 0, 60.0 * rpm, 0.0) / 1e6  # million revolutions per hour
-            res["L10r_hours"][...] = np.where(per_hour > 0, res["L10r"] / np.maximum(per_hour, 1e-300), np.inf)
-            if "L10_hours" in res:
-                res["L10_hours"][...] = np.where(per_hour > 0, res["L10"] / np.maximum(per_hour, 1e-300), np.inf)
+        per_hour = 60.0 * rpm / 1e6  # million revolutions per hour
+        for name in ("L10r", "L10"):
+            if f"{name}_hours" in res:
+                # a case at standstill lasts for ever (inf h); divided only where the shaft turns (dividing
+                # every case, by a 1e-300 stand-in at 0 rpm, overflowed: numpy's "overflow in divide")
+                hours = res[f"{name}_hours"]
+                hours[...] = np.inf
+                np.divide(res[name], per_hour, out=hours, where=per_hour > 0)
 
 
 def job(cfg: LoadMapConfig, device: str = "cpu") -> jobs.Job:

@@ -108,7 +108,11 @@ class Job:
         """A block's results as the file stores them (the kept variables, cast to their stored dtype)."""
         if self.stored is None and self.dtype == "float64":
             return res
-        return {v.name: res[v.name].astype(v.dtype, copy=False) for v in self.stored_variables}
+        # a number beyond float32's range is stored as +-inf, as the cast leaves it (a life of 1e52 million
+        # revolutions under a noise-level load): said nowhere else, so numpy's context-free "overflow
+        # encountered in cast" would be the only word of it
+        with np.errstate(over="ignore"):
+            return {v.name: res[v.name].astype(v.dtype, copy=False) for v in self.stored_variables}
 
     def bytes_needed(self) -> int:
         return self.cases.n_cases * storage.bytes_per_case(list(self.stored_variables), self.sizes)
