@@ -18,8 +18,8 @@ QJ210 = fb.load_bearing(Path(__file__).resolve().parents[1] / "data" / "bearings
 
 
 def skf_qj(Fr, Fa):
-    """SKF Rolling bearings catalogue (PUB BU/P1 17000 EN, 2018), four-point contact ball bearings, "Loads"
-    (p. 399): QJ 2, QJ 3 series (35 deg) P = Fr + 0.66 Fa for Fa/Fr <= 0.95, else 0.6 Fr + 1.07 Fa;
+    """SKF Rolling bearings catalogue, four-point contact ball bearings, "Loads" (printed p. 399; read in a
+    hosted copy that does not show the edition): QJ 2, QJ 3 series (35 deg) P = Fr + 0.66 Fa for Fa/Fr <= 0.95, else 0.6 Fr + 1.07 Fa;
     P0 = Fr + 0.58 Fa. (N)"""
     P = np.where(Fa <= 0.95 * Fr, Fr + 0.66 * Fa, 0.6 * Fr + 1.07 * Fa)
     return P, Fr + 0.58 * Fa
