@@ -280,3 +280,23 @@ def test_a_job_tables_fixed_values_beyond_the_bearings_reach_are_refused(tmp_pat
         with pytest.raises(ValueError, match=rf"{job}\.fixed\.{name} must be in \["):
             run(cfg, out, progress=False)
         assert not out.exists()
+
+
+def test_two_four_point_rows_hold_their_own_pairs_mirrored_or_not():
+    """Two four-point rows side by side were refused ('pair without its partner'): the swap that restores a
+    mirrored row's pair order took row 0's pair - and row 1's pair + for a mirrored pair. Each row's two pairs
+    stay together, +a0 then -a0, also on the mirrored bearing; standing still the set is the sum of its rows."""
+    from fastbearing.analysis.shaft import mirrored
+
+    two = fb.Bearing.from_rows([{**ROW, "element": "four_point_ball", "axial_offset": z} for z in (-10.0, 10.0)])
+    assert [(r.axial_offset, r.contact_direction) for r in two.rows] == [(-10.0, 1), (-10.0, -1), (10.0, 1),
+                                                                        (10.0, -1)]
+    flipped = mirrored(two)
+    assert [(r.axial_offset, r.contact_direction) for r in flipped.rows] == [(10.0, 1), (10.0, -1), (-10.0, 1),
+                                                                            (-10.0, -1)]
+    q = np.array([0.01, 0.0, 0.005, 0.0, 0.0002])
+    rows = [fb.Bearing.from_rows([{**ROW, "element": "four_point_ball", "axial_offset": z}]) for z in (-10.0, 10.0)]
+    f_sum = sum(fb.stiffness(b, q)[0] for b in rows)
+    K_sum = sum(fb.stiffness(b, q)[1] for b in rows)
+    f, K = fb.stiffness(two, q)
+    assert np.allclose(f, f_sum, rtol=1e-12, atol=1e-9) and np.allclose(K, K_sum, rtol=1e-12, atol=1e-6)

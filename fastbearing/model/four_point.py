@@ -117,12 +117,22 @@ def expand(rows) -> tuple:
     out = []
     for r in rows:
         out.extend(r.pairs() if isinstance(r, FourPointRow) else (r,))
-    for i in range(len(out) - 1):
+    i = 0
+    while i < len(out) - 1:  # pair by pair: row k's pair - and row k+1's pair + are no pair
         a, b = out[i], out[i + 1]
-        if (isinstance(a, ContactPair) and isinstance(b, ContactPair) and a.contact_direction == -1
-                and b.contact_direction == 1):
-            out[i], out[i + 1] = b, a
+        if isinstance(a, ContactPair) and isinstance(b, ContactPair) and _partners(a, b):
+            if a.contact_direction == -1:
+                out[i], out[i + 1] = b, a
+            i += 2
+        else:
+            i += 1
     return tuple(out)
+
+
+def _partners(a: "ContactPair", b: "ContactPair") -> bool:
+    """Whether two contact pairs are one four-point row's: opposite directions, alike in every other key."""
+    return (a.contact_direction == -b.contact_direction
+            and all(getattr(a, f.name) == getattr(b, f.name) for f in fields(Row) if f.name != "contact_direction"))
 
 
 def check_pairs(rows) -> None:
