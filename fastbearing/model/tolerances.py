@@ -51,14 +51,18 @@ _EI_M = (4, 6, 7, 8, 9, 11, 13, 15, 17, 20, 21, 23)     # m, all grades
 _EI_N = (8, 10, 12, 15, 17, 20, 23, 27, 31, 34, 37, 40)  # n, all grades
 _EI_P = (12, 15, 18, 22, 26, 32, 37, 43, 50, 56, 62, 68)  # p, all grades
 # j for grades IT5 and IT6 (the same ei for both): a tabulated value, not a formula. ISO 286-1
-# Table 3 column "j, IT5 and IT6"; read also in the ISO fundamental-deviation table reproduced in
-# "Machine Design" (issuhub, Table 15.2, rows 180-500) and in the mechguru ISO 286 table.
+# Table 3 column "j, IT5 and IT6"; read in the SKF j5/j6 shaft table (3-250 mm), the gbbco.cn
+# j5/j6 fit table (3-120 mm) and the fundamental-deviation table of "Machine Design" (issuhub,
+# Table 15.2, 180-500 mm).
 _EI_J56 = (-2, -2, -3, -4, -5, -7, -9, -11, -13, -16, -18, -20)
 
-# Hole fundamental (lower) deviation EI of G, ISO 286-1 Table 2 (the mirror of g's es), um.
+# Hole fundamental (lower) deviation EI of G, ISO 286-1 Table 2 (the mirror of g's es), um;
+# G7 read in the Miki Pulley JIS B 0401 hole table (3-315 mm).
 _EI_G = (4, 5, 6, 7, 9, 10, 12, 14, 15, 17, 18, 20)
-# Upper deviation ES of J7: tabulated in ISO 286-2 (Table 8, J column), not formula-based.
-# Read in the DME "Tables for Determining Metric Tolerances", Table 6 (holes), J7 column.
+# Upper deviation ES of J7: tabulated in ISO 286-2 (J column), not formula-based. Read in the SKF
+# housing table (J7, 6-250 mm) and the DME "Tables for Determining Metric Tolerances" Table 6
+# (3-6 mm). The 250-315, 315-400 and 400-500 values (+36, +39, +43) are the ISO 286-2 values as
+# recalled and were not cross-checked against a second published copy.
 _ES_J7 = (6, 8, 10, 12, 14, 18, 22, 26, 30, 36, 39, 43)
 
 
