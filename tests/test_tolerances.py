@@ -21,8 +21,10 @@ Sources, short names used below:
 - ISO 492: NSK CAT. E1102m Table 8.2.1 (bores) and 8.5.2 (6-50 mm OD), NTN CAT. 2202 Table 5.1
   (class 0 bores), gld-bearing.com P0 table, Rajkot/SRS deep-groove Normal-class table (OD),
   consbrgs.com ABEC-1 table (OD in inches).
-- ISO 5753-1: NSK CAT. E1102m Table 9.9 (p. A94, flipbook p. 42), shjfbearing.com and
+- ISO 5753-1: NTN "Ball and Roller Bearings" pp. A-58/A-59 (scribd 174785772, "Clearance and
+  Preload"), NSK CAT. E1102m Table 9.9 (p. A94, flipbook p. 42), shjfbearing.com and
   ktaiballbearing.com deep-groove clearance tables, tritanpt.com (CN 100-120).
+- NTN T7: NTN "Ball and Roller Bearings" Table 7 (outer rings, class 0), yumpu 11507201 p. 262.
 """
 
 import ast
@@ -215,10 +217,10 @@ def test_bore_tolerance_matches_iso492_normal(d, lower, source):
 
 @pytest.mark.parametrize("D, lower, source", [
     (10, -8, "NSK 8.5.2 and SKF T8, 6-18 / 6-10"), (25, -9, "Rajkot; SKF T8"),
-    (52, -13, "6205 OD: Rajkot 50-80; SKF T8"), (140, -18, "Rajkot 120-150; SKF T8"),
+    (52, -13, "6205 OD: Rajkot 50-80; SKF T8; NTN T7"), (140, -18, "Rajkot 120-150; SKF T8; NTN T7"),
     (160, -25, "Rajkot 150-180; SKF T8"), (300, -35, "Rajkot 250-315; SKF T8"),
     (350, -40, "Rajkot 315-400"), (450, -45, "consbrgs .0018 in, 400-500"),
-    (600, -50, "consbrgs .0020 in, 500-630"),
+    (600, -50, "consbrgs .0020 in; NTN T7, 500-630"),
 ])
 def test_outer_diameter_tolerance_matches_iso492_normal(D, lower, source):
     assert T.outer_diameter_tolerance(D) == pair(0, lower), source
@@ -235,7 +237,15 @@ def test_outer_diameter_tolerance_matches_iso492_normal(D, lower, source):
      "shjfbearing.com; ktaiballbearing.com, 65-80"),
     (90, {"C2": (1, 18), "CN": (12, 36), "C3": (30, 58), "C4": (53, 84), "C5": (75, 120)},
      "shjfbearing.com; ktaiballbearing.com, 80-100"),
-    (110, {"CN": (15, 41)}, "tritanpt.com, CN 100-120"),
+    (110, {"C2": (2, 20), "CN": (15, 41), "C3": (36, 66), "C4": (61, 97), "C5": (90, 140)},
+     "NTN A-59; CN also tritanpt.com, 100-120"),
+    (150, {"C2": (2, 23), "CN": (18, 53), "C3": (46, 91), "C4": (81, 130), "C5": (120, 180)}, "NTN A-59, 140-160"),
+    (240, {"C2": (2, 40), "CN": (30, 95), "C3": (85, 160), "C4": (145, 225), "C5": (205, 300)},
+     "NTN A-59, 225-250"),
+    (280, {"C3": (90, 170)}, "NTN A-59, 250-280 (280 is in it: over 250 incl. 280)"),
+    (475, {"C2": (3, 90), "CN": (70, 190), "C3": (170, 300), "C4": (280, 420), "C5": (390, 570)},
+     "NTN A-59, 450-500"),
+    (600, {"CN": (90, 230), "C5": (490, 690)}, "NTN A-59, 560-630"),
 ])
 def test_clearance_groups_match_iso5753(d, expected, source):
     for group, (lo, hi) in expected.items():
@@ -243,7 +253,7 @@ def test_clearance_groups_match_iso5753(d, expected, source):
 
 
 def test_small_bores_have_no_c4_c5():
-    # ISO 5753-1 defines C2, CN, C3 only for d over 2.5 incl. 6 (bmzbearings.com table leaves C4/C5 empty)
+    # ISO 5753-1 defines C2, CN, C3 only for d over 2.5 incl. 6 (NTN A-59 and bmzbearings.com leave C4/C5 empty)
     assert T.clearance_group("CN", 4) == pair(2, 13)
     with pytest.raises(validate.FieldError) as err:
         T.clearance_group("C4", 4)
@@ -297,7 +307,8 @@ def test_sizes_outside_the_tables_are_refused_with_the_range():
     _refused(lambda: T.housing_interference_range("H7", 600), "outer_diameter", "(3, 500]")
     _refused(lambda: T.bore_tolerance(700), "bore", "(2.5, 630]", "ISO 492")
     _refused(lambda: T.outer_diameter_tolerance(5), "outer_diameter", "(6, 630]")
-    _refused(lambda: T.clearance_group("CN", 300), "bore", "(2.5, 280]", "ISO 5753-1")
+    _refused(lambda: T.clearance_group("CN", 700), "bore", "(2.5, 630]", "ISO 5753-1")
+    _refused(lambda: T.clearance_group("CN", 2.5), "bore", "(2.5, 630]")
     _refused(lambda: T.shaft_deviation("k5", "25"), "diameter")
     _refused(lambda: T.shaft_deviation("k5", float("nan")), "diameter")
     _refused(lambda: T.bore_tolerance(True), "bore")

@@ -14,8 +14,8 @@ Sources (each table says more where it is defined):
   the j and J classes are not formula-based and are taken from the published ISO 286-2 tables.
 - ISO 492:2014 Normal class, as reproduced in NSK CAT. E1102m Table 8.2 and NTN CAT. 2202
   Table 5.1 ("class 0"), the SKF catalogue "Normal tolerances" table and maker sheets.
-- ISO 5753-1:2009 Table 1 (deep-groove ball bearings), as reproduced in NSK CAT. E1102m
-  Table 9.9 and the SKF catalogue.
+- ISO 5753-1:2009 Table 1 (deep-groove ball bearings), as reproduced in NTN "Ball and Roller
+  Bearings" pp. A-58/A-59 and NSK CAT. E1102m Table 9.9.
 
 Leaf module: imports only numpy and :mod:`fastbearing.validate`.
 """
@@ -141,13 +141,15 @@ _OD_LOWER_UM = (-8, -9, -11, -13, -15, -18, -25, -30, -35, -40, -45, -50)
 CLEARANCE_GROUPS = ("C2", "CN", "C3", "C4", "C5")
 #: Bore d steps (mm) of ISO 5753-1 Table 1; row i is "over [i] incl. [i+1]".
 CLEARANCE_STEPS_MM = (2.5, 6.0, 10.0, 18.0, 24.0, 30.0, 40.0, 50.0, 65.0, 80.0, 100.0,
-                      120.0, 140.0, 160.0, 180.0, 200.0, 225.0, 250.0, 280.0)
+                      120.0, 140.0, 160.0, 180.0, 200.0, 225.0, 250.0, 280.0, 315.0, 355.0,
+                      400.0, 450.0, 500.0, 560.0, 630.0)
 # (min, max) per group C2, CN, C3, C4, C5; None where the standard defines no group.
-# Rows up to 100 mm: NSK CAT. E1102m Table 9.9 (p. A94; it merges 2.5-10 into one "10 only" row),
-# cross-checked with shjfbearing.com, ktaiballbearing.com and bmzbearings.com tables (which also
-# give the 2.5-6 row without C4 and C5). The 24-30 row is the research file's NSK reading.
-# Rows over 100 mm: ISO 5753-1 / SKF catalogue values as recalled; only CN 100-120 (15-41) was
-# cross-checked (tritanpt.com BL table). See UNVERIFIED_CLEARANCE_ROWS.
+# Read in NTN "Ball and Roller Bearings" pp. A-58/A-59, radial internal clearance of deep-groove
+# ball bearings (all rows, 2.5-630 mm), and cross-checked up to 100 mm with NSK CAT. E1102m
+# Table 9.9 (p. A94; it merges 2.5-10 into one "10 only" row, which omits that C4/C5 start at 6),
+# shjfbearing.com and ktaiballbearing.com; CN 100-120 also with tritanpt.com. The 24-30 row is
+# the research file's NSK reading. (bmzbearings.com prints C2 0-8 up to 18 mm: a misprint, NTN and
+# NSK both give 0-7, 0-7, 0-9.)
 _CLEARANCE_UM = (
     ((0, 7), (2, 13), (8, 23), None, None),            # 2.5-6
     ((0, 7), (2, 13), (8, 23), (14, 29), (20, 37)),    # 6-10
@@ -167,9 +169,14 @@ _CLEARANCE_UM = (
     ((2, 35), (25, 85), (75, 140), (125, 195), (175, 265)),  # 200-225
     ((2, 40), (30, 95), (85, 160), (145, 225), (205, 300)),  # 225-250
     ((2, 45), (35, 105), (90, 170), (155, 245), (225, 340)),  # 250-280
+    ((2, 55), (40, 115), (100, 190), (175, 270), (245, 370)),  # 280-315
+    ((3, 60), (45, 125), (110, 210), (195, 300), (275, 410)),  # 315-355
+    ((3, 70), (55, 145), (130, 240), (225, 340), (315, 460)),  # 355-400
+    ((3, 80), (60, 170), (150, 270), (250, 380), (350, 510)),  # 400-450
+    ((3, 90), (70, 190), (170, 300), (280, 420), (390, 570)),  # 450-500
+    ((10, 100), (80, 210), (190, 330), (310, 470), (440, 630)),  # 500-560
+    ((10, 110), (90, 230), (210, 360), (340, 520), (490, 690)),  # 560-630
 )
-#: Clearance rows (over, incl. mm) not cross-checked against a second published copy.
-UNVERIFIED_CLEARANCE_ROWS = ((100.0, 280.0),)
 
 
 # --------------------------------------------------------------------------------------------
@@ -273,7 +280,7 @@ def housing_interference_range(housing_fit: str, D_mm, *, fit_field: str = "hous
 def clearance_group(group: str, d_mm, *, field: str = "diametral_clearance",
                     size_field: str = "bore") -> tuple[float, float]:
     """(min, max) radial internal (diametral) clearance in mm of an unmounted deep-groove ball
-    bearing of ISO 5753-1 group ``group`` (C2, CN, C3, C4, C5) and bore ``d_mm`` (over 2.5 incl. 280)."""
+    bearing of ISO 5753-1 group ``group`` (C2, CN, C3, C4, C5) and bore ``d_mm`` (over 2.5 incl. 630)."""
     if not isinstance(group, str) or group not in CLEARANCE_GROUPS:
         raise validate.FieldError(field, f"must be an ISO 5753-1 clearance group, one of {list(CLEARANCE_GROUPS)}",
                                   group)
