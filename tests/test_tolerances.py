@@ -16,8 +16,9 @@ Sources, short names used below:
   ISO 286-2), as printed by Sumitomo (tech. info p. 28), Miki Pulley (tech08, holes E7-H10) and
   Misumi (1263, holes).
 - ISO 286-1 components: standard tolerances as the h5-h8 columns of the BIG DAISHOWA shaft table
-  (catalog p. 139) and the j/k fundamental deviations of "Machine Design" Table 15.2 (issuhub),
-  for sizes where no full published class table was reachable.
+  (catalog p. 139) and the fundamental deviations of "Machine Drawing" Tables 15.2 (shafts j, k;
+  issuhub p. 238) and 15.3 (holes G, J, K, M, N; issuhub p. 242), for sizes where no full
+  published class table was reachable.
 - ISO 492: NSK CAT. E1102m Table 8.2.1 (bores) and 8.5.2 (6-50 mm OD), NTN CAT. 2202 Table 5.1
   (class 0 bores), gld-bearing.com P0 table, Rajkot/SRS deep-groove Normal-class table (OD),
   consbrgs.com ABEC-1 table (OD in inches).
@@ -114,6 +115,12 @@ HOUSING_VALUES = [
     ("H8", 8, 22, 0, "Miki Pulley"), ("H8", 100, 54, 0, "Miki Pulley"), ("H8", 300, 81, 0, "Miki Pulley"),
     ("J7", 8, 8, -7, "SKF T8"), ("J7", 25, 12, -9, "SKF T8"), ("J7", 60, 18, -12, "SKF T8"),
     ("J7", 200, 30, -16, "SKF T8"),
+    ("J7", 300, 36, -16, "ISO 286-1 components: J7 ES +36, IT7 52"),
+    ("J7", 450, 43, -20, "ISO 286-1 components: J7 ES +43, IT7 63"),
+    ("G7", 450, 83, 20, "ISO 286-1 components: G EI +20, IT7 63"),
+    ("K7", 450, 18, -45, "ISO 286-1 components: K ES -5 + (IT7 - IT6) = +18, IT7 63"),
+    ("M7", 350, 0, -57, "ISO 286-1 components: M ES -21 + (57 - 36) = 0"),
+    ("N7", 450, -17, -80, "ISO 286-1 components: N ES -40 + (63 - 40) = -17"),
     ("JS7", 8, 7.5, -7.5, "SKF T8"), ("JS7", 25, 10.5, -10.5, "SKF T8; JIS B 0401 js7"),
     ("JS7", 200, 23, -23, "SKF T8"),
     ("K7", 8, 5, -10, "SKF T8"), ("K7", 25, 6, -15, "SKF T8"), ("K7", 100, 10, -25, "SKF T8"),

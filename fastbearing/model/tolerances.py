@@ -57,12 +57,12 @@ _EI_P = (12, 15, 18, 22, 26, 32, 37, 43, 50, 56, 62, 68)  # p, all grades
 _EI_J56 = (-2, -2, -3, -4, -5, -7, -9, -11, -13, -16, -18, -20)
 
 # Hole fundamental (lower) deviation EI of G, ISO 286-1 Table 2 (the mirror of g's es), um;
-# G7 read in the Miki Pulley JIS B 0401 hole table (3-315 mm).
+# G7 read in the Miki Pulley JIS B 0401 hole table (3-315 mm), G in "Machine Drawing" Table 15.3
+# (120-500 mm).
 _EI_G = (4, 5, 6, 7, 9, 10, 12, 14, 15, 17, 18, 20)
-# Upper deviation ES of J7: tabulated in ISO 286-2 (J column), not formula-based. Read in the SKF
-# housing table (J7, 6-250 mm) and the DME "Tables for Determining Metric Tolerances" Table 6
-# (3-6 mm). The 250-315, 315-400 and 400-500 values (+36, +39, +43) are the ISO 286-2 values as
-# recalled and were not cross-checked against a second published copy.
+# Upper deviation ES of J7: tabulated in ISO 286-1 Table 2 (J column), not formula-based. Read in
+# the SKF housing table (J7, 6-250 mm), the DME "Tables for Determining Metric Tolerances" Table 6
+# (3-6 mm) and "Machine Drawing" Table 15.3 (issuhub p. 242: J7 +26 +30 +36 +39 +43, 120-500 mm).
 _ES_J7 = (6, 8, 10, 12, 14, 18, 22, 26, 30, 36, 39, 43)
 
 
