@@ -17,8 +17,8 @@ Sources, short names used below:
   Misumi (1263, holes).
 - ISO 286-1 components: standard tolerances as the h5-h8 columns of the BIG DAISHOWA shaft table
   (catalog p. 139) and the fundamental deviations of "Machine Drawing" Tables 15.2 (shafts j, k;
-  issuhub p. 238) and 15.3 (holes G, J, K, M, N; issuhub p. 242), for sizes where no full
-  published class table was reachable.
+  issuhub p. 238) and 15.3 (holes G, J, K, M, N, P with their Delta; issuhub pp. 242, 244), for
+  sizes where no full published class table was reachable.
 - ISO 492: NSK CAT. E1102m Table 8.2.1 (bores) and 8.5.2 (6-50 mm OD), NTN CAT. 2202 Table 5.1
   (class 0 bores), gld-bearing.com P0 table, Rajkot/SRS deep-groove Normal-class table (OD),
   consbrgs.com ABEC-1 table (OD in inches).
@@ -104,6 +104,10 @@ SHAFT_VALUES = [
     ("p6", 5, 20, 12, "JIS B 0401"), ("p6", 40, 42, 26, "JIS B 0401"),
     ("p6", 60, 51, 32, "JIS B 0401; SKF s66 (50-65 and 65-80 alike)"),
     ("p6", 70, 51, 32, "SKF s66"), ("p6", 150, 68, 43, "SKF s66"), ("p6", 240, 79, 50, "SKF s66"),
+    ("p6", 450, 108, 68, "ISO 286-1 components: P hole ES -68 (Table 15.3) = -ei(p), IT6 40"),
+    ("m6", 450, 63, 23, "ISO 286-1 components: M hole ES -23 + Delta = -ei(m) + Delta, IT6 40"),
+    ("m5", 300, 43, 20, "ISO 286-1 components: M hole -20 + Delta, IT5 23"),
+    ("n6", 350, 73, 37, "ISO 286-1 components: N hole -37 + Delta, IT6 36"),
 ]
 
 HOUSING_VALUES = [
@@ -130,6 +134,7 @@ HOUSING_VALUES = [
     ("N7", 300, -14, -66, "SKF T8"),
     ("P7", 5, -8, -20, "JIS B 0401 (Misumi)"), ("P7", 25, -14, -35, "SKF T8; JIS B 0401"),
     ("P7", 60, -21, -51, "SKF T8"), ("P7", 300, -36, -88, "SKF T8"),
+    ("P7", 450, -45, -108, "ISO 286-1 components: P -68 + Delta 23 (Table 15.3, p. 244), IT7 63"),
 ]
 
 

@@ -45,7 +45,10 @@ _IT = {
     8: (18, 22, 27, 33, 39, 46, 54, 63, 72, 81, 89, 97),
 }
 
-# Shaft fundamental (lower) deviations ei, ISO 286-1:2010 Table 3, um.
+# Shaft fundamental (lower) deviations ei, ISO 286-1:2010 Table 3, um. Read in "Machine Drawing"
+# (Narayana et al.) Table 15.2 (issuhub pp. 238-239: k to 500 mm, m, n, p to 180 mm) and, above
+# 180 mm, as the mirrored hole deviations of its Table 15.3 (pp. 242, 244: M -17 -20 -21 -23,
+# N -31 -34 -37 -40, P -50 -56 -62 -68, each + Delta), which ISO 286-1 defines as -ei.
 _EI_K = (1, 1, 1, 2, 2, 2, 3, 3, 4, 4, 4, 5)            # k, grades IT4 to IT7
 _EI_M = (4, 6, 7, 8, 9, 11, 13, 15, 17, 20, 21, 23)     # m, all grades
 _EI_N = (8, 10, 12, 15, 17, 20, 23, 27, 31, 34, 37, 40)  # n, all grades
