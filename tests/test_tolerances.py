@@ -338,6 +338,11 @@ def test_field_names_can_be_set_and_nested():
     assert err.within("bearing").field == "bearing.mounting.shaft_fit"
 
 
+def test_tables_are_read_only():
+    with pytest.raises(ValueError):
+        T.SHAFT_DEVIATIONS_UM["k5"][0, 0] = 99.0
+
+
 def test_module_is_a_leaf():
     tree = ast.parse(Path(T.__file__).read_text())
     imported = set()

@@ -55,8 +55,7 @@ _EI_N = (8, 10, 12, 15, 17, 20, 23, 27, 31, 34, 37, 40)  # n, all grades
 _EI_P = (12, 15, 18, 22, 26, 32, 37, 43, 50, 56, 62, 68)  # p, all grades
 # j for grades IT5 and IT6 (the same ei for both): a tabulated value, not a formula. ISO 286-1
 # Table 3 column "j, IT5 and IT6"; read in the SKF j5/j6 shaft table (3-250 mm), the gbbco.cn
-# j5/j6 fit table (3-120 mm) and the fundamental-deviation table of "Machine Design" (issuhub,
-# Table 15.2, 180-500 mm).
+# j5/j6 fit table (3-120 mm) and "Machine Drawing" Table 15.2 (issuhub p. 238, 180-500 mm).
 _EI_J56 = (-2, -2, -3, -4, -5, -7, -9, -11, -13, -16, -18, -20)
 
 # Hole fundamental (lower) deviation EI of G, ISO 286-1 Table 2 (the mirror of g's es), um;
@@ -115,6 +114,9 @@ HOUSING_DEVIATIONS_UM = {
     "N7": _hole_delta(_EI_N, 7),
     "P7": _hole_delta(_EI_P, 7),
 }
+
+for _table in (*SHAFT_DEVIATIONS_UM.values(), *HOUSING_DEVIATIONS_UM.values()):
+    _table.setflags(write=False)  # shared module data: a caller must not edit the standard
 
 SHAFT_FITS = tuple(SHAFT_DEVIATIONS_UM)
 HOUSING_FITS = tuple(HOUSING_DEVIATIONS_UM)
