@@ -313,7 +313,7 @@ def test_unknown_classes_are_refused_with_the_list():
 
 
 def test_sizes_outside_the_tables_are_refused_with_the_range():
-    _refused(lambda: T.shaft_deviation("k5", 3), "diameter", "(3, 500]", "mm")   # "over 3"
+    _refused(lambda: T.shaft_deviation("k5", 3), "diameter", "(3, 500] mm", "ISO 286")   # "over 3"
     _refused(lambda: T.housing_deviation("H7", 500.5), "diameter", "(3, 500]")
     _refused(lambda: T.interference_range("k5", 2), "bore", "(3, 500]")
     _refused(lambda: T.housing_interference_range("H7", 600), "outer_diameter", "(3, 500]")

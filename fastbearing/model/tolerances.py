@@ -191,7 +191,7 @@ _CLEARANCE_UM = (
 def _row(steps, size, field, standard) -> int:
     """Index of the "over steps[i] incl. steps[i+1]" row holding ``size``; refuses sizes outside."""
     x = validate.number(size, field, low=steps[0], high=steps[-1], low_open=True,
-                        units=f" mm ({standard} table range)")
+                        units=f"mm ({standard} table range)")
     # side="left": a size equal to a step's upper bound stays in that step ("incl.")
     return int(np.searchsorted(steps, x, side="left")) - 1
 
