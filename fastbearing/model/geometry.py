@@ -343,6 +343,29 @@ RACE_CONTROL_FACTORS = {"outer": (0.0, 2.0), "inner": (1.0, 1.0), "none": (0.0, 
 
 
 # -- a bearing's geometry ------------------------------------------------------------
+def check_boundary_dimensions(body, element_diameter: float) -> None:
+    """Validate ``body``'s optional boundary dimensions (ISO 15 / ISO 355: ``bore`` d, ``outer_diameter`` D,
+    ``width`` B, all mm) in place against its rolling elements: d < dm - Dw (the inner raceway Di) and
+    D > dm + Dw (the outer raceway De), so that each ring has a section; width > 0. Needed for fits
+    (docs/mounting.md); absent (None) they change nothing."""
+    v = validate
+    dm = body.pitch_diameter
+    for name in ("bore", "outer_diameter", "width"):
+        if getattr(body, name) is not None:
+            object.__setattr__(body, name, v.number(getattr(body, name), name, low=0, low_open=True, units="mm"))
+    if body.bore is not None and not body.bore < dm - element_diameter:
+        raise v.FieldError("bore", f"must be < the inner raceway diameter pitch_diameter - {ELEMENT_WORD[body.element]}"
+                           f" = {dm - element_diameter:.6g} mm (the inner ring needs a section)", body.bore)
+    if body.outer_diameter is not None and not body.outer_diameter > dm + element_diameter:
+        raise v.FieldError("outer_diameter", f"must be > the outer raceway diameter pitch_diameter + "
+                           f"{ELEMENT_WORD[body.element]} = {dm + element_diameter:.6g} mm (the outer ring needs a "
+                           "section)", body.outer_diameter)
+
+
+#: The element diameter's key in each geometry, for the boundary dimensions' messages.
+ELEMENT_WORD = {"ball": "ball_diameter", "cylindrical_roller": "roller_diameter", "tapered_roller": "roller_diameter"}
+
+
 @dataclass(frozen=True)
 class Geometry:
     """Catalogue geometry and materials of the rows of a ball bearing (all rows alike).
@@ -390,6 +413,9 @@ class Geometry:
         "inner" (lambda = 1, 1) or "none" (no gyroscopic moment; orbital speed as for outer control).
     rotating : {"inner", "outer"}
         The ring that turns at the shaft speed (the other stands still).
+    bore, outer_diameter, width : float or None
+        The boundary dimensions d, D, B in mm (ISO 15), from the maker's catalogue: optional, needed for
+        fits (:func:`check_boundary_dimensions`: d < dm - D, D > dm + D).
     dynamic_load_rating, static_load_rating : float or None
         The catalogue's C and C0 of the bearing as listed, N (> 0): a single row's, or a double row's
         (DB, DF, DT) as a unit, whose rows then get C / 2^0.7 and C0 / 2 (ISO 281, ISO 76); for rows of
@@ -428,6 +454,9 @@ class Geometry:
     ball_density: float | None = None
     race_control: str = "outer"
     rotating: str = "inner"
+    bore: float | None = None
+    outer_diameter: float | None = None
+    width: float | None = None
     #: The element kind of the rows it makes (a roller geometry's ``element`` says its own).
     element = "ball"
 
@@ -486,6 +515,7 @@ class Geometry:
         for name in ("dynamic_load_rating", "static_load_rating"):
             if getattr(self, name) is not None:
                 set_(self, name, v.number(getattr(self, name), name, low=0, low_open=True, units="N"))
+        check_boundary_dimensions(self, D)
         # an accepted geometry only: no warning beside an error (its rows' check says the same, once)
         check_ball_diameter_unit(self.ball_diameter)
         check_contact_angle_unit(self.contact_angle)
@@ -654,7 +684,7 @@ GEOMETRY_KEYS = ("n_balls", "ball_diameter", "pitch_diameter", "inner_groove_rat
                  "contact_angle", "diametral_clearance", "row_spacing", "youngs_modulus", "poisson_ratio",
                  "ball_youngs_modulus", "ring_youngs_modulus", "ball_poisson_ratio", "ring_poisson_ratio",
                  "material", "ellipticity", "contact_pressure_limit", "dynamic_load_rating", "static_load_rating",
-                 "ball_density", "race_control", "rotating")
+                 "ball_density", "race_control", "rotating", "bore", "outer_diameter", "width")
 _REQUIRED = ("n_balls", "ball_diameter", "pitch_diameter", "inner_groove_ratio", "outer_groove_ratio")
 
 
@@ -703,7 +733,7 @@ def geometry_from_table(table: dict, where: str = "bearing.geometry") -> Geometr
     values = {k: table[k] for k in _REQUIRED + ("contact_angle", "diametral_clearance", "row_spacing", "ellipticity",
                                                 "contact_pressure_limit", "dynamic_load_rating",
                                                 "static_load_rating", "ball_density", "race_control",
-                                                "rotating") if k in table}
+                                                "rotating", "bore", "outer_diameter", "width") if k in table}
     try:
         return Geometry(**values, ball_material=ball, ring_material=ring)
     except validate.FieldError as err:

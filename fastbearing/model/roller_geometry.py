@@ -17,7 +17,7 @@ from dataclasses import dataclass, replace
 
 from .. import validate
 from .bearing import Bearing
-from .geometry import MATERIALS, STEEL, Material, reduced_modulus
+from .geometry import MATERIALS, STEEL, Material, check_boundary_dimensions, reduced_modulus
 from .rollers import CROWNS, MAX_ROLLERS, MAX_SLICES, PRELOAD_APPROACH_LIMIT, ROLLER_ELEMENTS, radial_clearance_floor
 
 #: Palmgren's line contact per raceway, delta = PALMGREN * Q^0.9 / l^0.8 (mm, N).
@@ -62,6 +62,9 @@ class RollerGeometry:
         As :class:`fastbearing.RollerRow`.
     dynamic_load_rating, static_load_rating : float or None
         The catalogue's C and C0 (N), kept with the bearing.
+    bore, outer_diameter, width : float or None
+        The boundary dimensions d, D and the width (a tapered bearing's total width T) in mm (ISO 15,
+        ISO 355), from the maker's catalogue: optional, needed for fits (d < dm - Dw, D > dm + Dw).
     """
 
     element: str
@@ -80,6 +83,9 @@ class RollerGeometry:
     crown_design_load: float | None = None
     dynamic_load_rating: float | None = None
     static_load_rating: float | None = None
+    bore: float | None = None
+    outer_diameter: float | None = None
+    width: float | None = None
 
     def __post_init__(self):
         v = validate
@@ -106,6 +112,7 @@ class RollerGeometry:
         for name in ("dynamic_load_rating", "static_load_rating"):
             if getattr(self, name) is not None:
                 set_(self, name, v.number(getattr(self, name), name, low=0, low_open=True, units="N"))
+        check_boundary_dimensions(self, D)
         set_(self, "slices", v.integer(self.slices, "slices", low=1, high=MAX_SLICES))
         v.choice(self.crown, "crown", CROWNS)
         try:
@@ -174,7 +181,7 @@ class RollerGeometry:
 ROLLER_GEOMETRY_KEYS = ("element", "n_rollers", "roller_diameter", "roller_effective_length", "pitch_diameter",
                         "contact_angle", "diametral_clearance", "row_spacing", "youngs_modulus", "poisson_ratio",
                         "material", "slices", "crown", "crown_radius", "crown_design_load", "dynamic_load_rating",
-                        "static_load_rating")
+                        "static_load_rating", "bore", "outer_diameter", "width")
 _REQUIRED = ("element", "n_rollers", "roller_diameter", "roller_effective_length", "pitch_diameter")
 
 
