@@ -509,7 +509,7 @@ def _notes(fs: Fit, fh: Fit, hoop: dict, limit: float, rotating: str, warn: bool
             notes.append(f"the {name} fit is lost if the {part} warms by a further "
                          f"{fit.loss_temperature_rise:.3g} K")
     for ring in ("inner ring", "outer ring"):  # tension cracks a hardened ring; the larger state is named
-        state, stress = max((("running", hoop[ring]), ("as mounted", hoop[f"mounted {ring}"])), key=lambda x: x[1])
+        state, stress = max((("as mounted", hoop[f"mounted {ring}"]), ("running", hoop[ring])), key=lambda x: x[1])
         if stress > limit:
             text = (f"the {ring} hoop stress {stress:.4g} N/mm^2 ({state}) exceeds the limit "
                     f"{limit:g} N/mm^2 (ring cracking risk)")
@@ -524,33 +524,31 @@ def _notes(fs: Fit, fh: Fit, hoop: dict, limit: float, rotating: str, warn: bool
 PAIR_DIRECTIONS = {"DB": (1, -1), "DF": (-1, 1), "DT": (1, 1)}
 
 
-def inner_contact_spacing(arrangement: str, row_spacing: float, element_diameter: float,
-                          contact_angle: float) -> float:
-    """L in mm: the axial distance between the two rows' inner-raceway contact points (where the contact lines
-    meet the shaft side), from the ball-centre spacing 2e (``row_spacing``, mm), Dw (mm) and a0 (degrees):
-    L = 2e + c Dw sin(a0), c = +1 DB (contact lines spread towards the shaft), -1 DF, 0 DT."""
-    c = {"DB": 1.0, "DF": -1.0, "DT": 0.0}[validate.choice(arrangement, "arrangement", tuple(PAIR_DIRECTIONS))]
-    return row_spacing + c * element_diameter * math.sin(math.radians(contact_angle))
-
-
 def axial_preload_changes(axial_offsets, contact_directions, *, inner_side_strain: float,
                           outer_side_strain: float) -> tuple[float, ...]:
     """The change of each row's axial preload offset d0 (mm, > 0 more preload) from the axial growth of the
     inner side (shaft, inner rings, spacers) and the outer side (housing, outer rings, spacers).
 
-    ``axial_offsets``: z_r in mm of each row's inner-raceway contact point (use :func:`inner_contact_spacing`
-    for pairs; the ball centre differs by Dw sin(a0)/2, a term of order (eps_i - eps_o) Dw, neglected);
+    ``axial_offsets``: z_r in mm, each row's ball-centre position (fastbearing's Row.axial_offset);
     ``contact_directions``: s_r = +1/-1 as the rows of fastbearing.Bearing; strains eps = alpha (T - T0)
     (dimensionless) of each side.
 
-    Derivation: the inner side moves the inner raceway at z_r by eps_i z_r relative to the outer raceway's
-    eps_o z_r; an inner-ring axial displacement dz adds s_r dz to the row's axial approach (docs/model.md,
-    Eq. 7b: uz = dz + s_r (A0 sin a0 + d0)), so d0 changes by s_r (eps_i - eps_o)(z_r - z_mean); a common
-    shift is the shaft's rigid axial displacement, which the solver finds (z_mean removes it). For a DB pair
-    (s = +1, -1 at z = -L/2, +L/2) each row's d0 falls by (eps_i - eps_o) L / 2; DF rises by as much; a
-    tandem pair shifts load from one row to the other and keeps its sum."""
+    Derivation: the engine's axial approach uz is measured between the inner and outer groove-curvature
+    centres (docs/model.md, Eq. 7b: uz = dz + s_r (A0 sin a0 + d0)), which lie on the contact line within
+    (f - 0.5) Dw of the ball centre, so the lever is the ball-centre position z_r (the contact points, Dw
+    sin(a0)/2 away, and the pressure centres on the axis are not: the ball sits between the groove centres).
+    The inner side moves the inner groove centre by eps_i z_r, the outer side the outer one by eps_o z_r; an
+    inner-ring axial displacement w adds w to uz, i.e. s_r w to d0. So d0 changes by
+    s_r (eps_i - eps_o)(z_r - z_mean): a common shift is the shaft's rigid axial displacement, which the solver
+    finds (z_mean removes it). Neglected: (eps_i + eps_o)/2 A0 sin(a0), the groove geometry's own scaling
+    (with the balls' growth, the clearance model's part). For a DB pair (s = +1, -1 at z = -e, +e) each row's
+    d0 falls by (eps_i - eps_o) e; DF rises by as much; a tandem pair shifts load from one row to the other
+    and keeps its sum."""
     z = [validate.number(v, f"axial_offsets[{i}]", units="mm") for i, v in enumerate(axial_offsets)]
-    s = [validate.choice(v, f"contact_directions[{i}]", (1, -1)) for i, v in enumerate(contact_directions)]
+    s = [validate.integer(v, f"contact_directions[{i}]", low=-1, high=1) for i, v in enumerate(contact_directions)]
+    for i, sr in enumerate(s):
+        if sr == 0:
+            raise FieldError(f"contact_directions[{i}]", "must be +1 or -1", sr)
     if len(z) != len(s) or not z:
         raise FieldError("contact_directions", f"must give one direction per row ({len(z)} rows)", len(s))
     eps = validate.number(inner_side_strain, "inner_side_strain") - validate.number(outer_side_strain,
@@ -559,15 +557,15 @@ def axial_preload_changes(axial_offsets, contact_directions, *, inner_side_strai
     return tuple(sr * eps * (zr - z_mean) for zr, sr in zip(z, s))
 
 
-def pair_axial_interference_change(arrangement: str, contact_spacing: float, *, inner_side_strain: float,
+def pair_axial_interference_change(arrangement: str, row_spacing: float, *, inner_side_strain: float,
                                    outer_side_strain: float) -> float:
     """The change in mm of a pair's axial interference (the sum of its rows' d0; > 0 more preload) from the
     inner side growing by eps_i = alpha_i (T_shaft - T0) and the outer side by eps_o = alpha_o
-    (T_housing - T0) over the axial distance L (``contact_spacing``, mm) between the rows' inner contact
-    points: -(eps_i - eps_o) L for DB, +(eps_i - eps_o) L for DF, 0 for DT (a tandem pair shares its load
-    differently instead: :func:`axial_preload_changes`)."""
+    (T_housing - T0) over the ball-centre spacing 2e (``row_spacing``, mm; see :func:`axial_preload_changes`
+    for why not the pressure-centre spread): -(eps_i - eps_o) 2e for DB, +(eps_i - eps_o) 2e for DF, 0 for DT
+    (a tandem pair shares its load differently instead: :func:`axial_preload_changes`)."""
     validate.choice(arrangement, "arrangement", tuple(PAIR_DIRECTIONS))
-    L = validate.number(contact_spacing, "contact_spacing", low=0.0, units="mm")
+    L = validate.number(row_spacing, "row_spacing", low=0.0, units="mm")
     rows = axial_preload_changes((-0.5 * L, 0.5 * L), PAIR_DIRECTIONS[arrangement],
                                  inner_side_strain=inner_side_strain, outer_side_strain=outer_side_strain)
     return sum(rows)
