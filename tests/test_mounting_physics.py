@@ -317,8 +317,9 @@ def test_pair_change_against_groove_centres_moved_by_hand(arrangement, a0_deg):
     contact line (DB: the inner contact lies axially outside the ball centre; DF: inside), the inner groove
     centre (fi - 0.5) Dw from the ball centre towards the outer contact and the outer groove centre
     (fo - 0.5) Dw towards the inner contact. Move inner-ring points axially by eps_i z, outer-ring points by
-    eps_o z, and turn each row's growth of the groove-centre distance A into an axial preload offset
-    (dA = sin(a0) dd0). The sum over the rows is the pair's change of axial interference."""
+    eps_o z; the engine's d0 is the growth of the groove centres' axial separation (uz = s (A0 sin a0 + d0),
+    exact in A = hypot(A0 cos a0 - rL, A0 sin a0 + d0)), so each row's change is that growth. The sum over
+    the rows is the pair's change of axial interference."""
     e, Dw, fi, fo, a0 = 20.0, 7.94, 0.52, 0.53, math.radians(a0_deg)
     eps_i, eps_o = 4e-4, 1e-4
     out = 1.0 if arrangement == "DB" else -1.0
@@ -328,12 +329,14 @@ def test_pair_change_against_groove_centres_moved_by_hand(arrangement, a0_deg):
         to_inner = np.array([-math.cos(a0), out * side * math.sin(a0)])  # (radial, axial) unit, ball -> P_i
         ci = np.array([0.0, zc]) - (fi - 0.5) * Dw * to_inner  # on the outer contact's side
         co = np.array([0.0, zc]) + (fo - 0.5) * Dw * to_inner
-        A = np.linalg.norm(co - ci)
+        assert abs(co[1] - ci[1]) == pytest.approx((fi + fo - 1) * Dw * math.sin(a0))  # A0 sin(a0)
         ci_new, co_new = ci + [0.0, eps_i * ci[1]], co + [0.0, eps_o * co[1]]
-        total += (np.linalg.norm(co_new - ci_new) - A) / math.sin(a0)
+        total += abs(co_new[1] - ci_new[1]) - abs(co[1] - ci[1])
     change = m.pair_axial_interference_change(arrangement, 2 * e, inner_side_strain=eps_i, outer_side_strain=eps_o)
     A0 = (fi + fo - 1) * Dw
-    assert change == pytest.approx(total, abs=2 * (eps_i + eps_o) * A0)  # the neglected groove-scaling term
+    # equal but for the neglected groove-geometry scaling, of order (eps_i + eps_o) A0 sin(a0) per row
+    assert change == pytest.approx(total, abs=2 * (eps_i + eps_o) * A0 * math.sin(a0))
+    assert abs(change - total) < 0.01 * abs(change)
     assert abs(change) == pytest.approx((eps_i - eps_o) * 2 * e, rel=1e-12)
     assert (change < 0) == (arrangement == "DB")
 
@@ -391,6 +394,29 @@ def test_named_materials_carry_thermal_expansion():
         assert 5e-6 < mat.thermal_expansion < 3e-5
         assert set(mat.as_dict()) == {"name", "youngs_modulus", "poisson_ratio", "density", "thermal_expansion"}
     assert m.STEEL.thermal_expansion == 12.5e-6 and m.STEEL.youngs_modulus == 208000.0
+
+
+def test_materials_are_reported_per_body():
+    r = row(housing_material="aluminium", shaft_material={"name": "Ti-6Al-4V", "youngs_modulus": 114000.0,
+                                                          "poisson_ratio": 0.34, "density": 4430.0,
+                                                          "thermal_expansion": 8.6e-6})
+    mats = r.as_dict()["materials"]
+    assert set(mats) == {"shaft", "inner_ring", "outer_ring", "balls", "housing"}
+    assert mats["housing"]["thermal_expansion"] == m.ALUMINIUM.thermal_expansion
+    assert mats["shaft"]["name"] == "Ti-6Al-4V" and mats["balls"]["name"] == "steel"
+
+
+def test_temperature_defaults():
+    """Balls and shaft default to the inner ring's temperature, the housing to the outer ring's, the rings to
+    the assembly temperature: an aluminium shaft and housing then grow with their rings' temperatures."""
+    kw = dict(shaft_material="aluminium", housing_material="aluminium", shaft_interference=0.02,
+              housing_interference=0.02)
+    implicit = row(**kw, inner_ring_temperature=50.0, outer_ring_temperature=30.0)
+    explicit = row(**kw, inner_ring_temperature=50.0, outer_ring_temperature=30.0, ball_temperature=50.0,
+                   shaft_temperature=50.0, housing_temperature=30.0, assembly_temperature=20.0)
+    assert implicit == explicit
+    assert implicit.shaft_interference == pytest.approx(0.02 + (23.4e-6 - 12.5e-6) * 30 * 25, rel=1e-12)
+    assert implicit.housing_interference == pytest.approx(0.02 + (12.5e-6 - 23.4e-6) * 10 * 52, rel=1e-12)
 
 
 def test_hoop_stress_warning_names_the_stress():

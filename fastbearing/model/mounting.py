@@ -329,6 +329,7 @@ class MountedRow:
     inner_ring_hoop_stress, outer_ring_hoop_stress : at each ring's bore (inner ring at d, outer ring at its
         raceway De, where fit stresses peak), fit + spin, running; mounted_* the same as mounted.
     shaft_fit, housing_fit : the :class:`Fit` of each interface.
+    materials : the BodyMaterial of each body: shaft, inner_ring, outer_ring, balls, housing.
     notes : one line each: fits lost and the speed or temperature at which they are lost, stress warnings.
     """
 
@@ -350,6 +351,7 @@ class MountedRow:
     mounted_outer_ring_hoop_stress: float
     shaft_fit: Fit
     housing_fit: Fit
+    materials: dict = field(default_factory=dict)
     notes: tuple[str, ...] = field(default=())
 
     @property
@@ -369,6 +371,7 @@ class MountedRow:
                 "outer_raceway_free_contraction", "ball_growth", "inner_ring_hoop_stress", "outer_ring_hoop_stress",
                 "mounted_inner_ring_hoop_stress", "mounted_outer_ring_hoop_stress")
         out = {k: getattr(self, k) for k in keys}
+        out["materials"] = {body: material.as_dict() for body, material in self.materials.items()}
         out["notes"] = list(self.notes)
         return out
 
@@ -482,7 +485,9 @@ def mount_row(*, bore, outer_diameter, pitch_diameter, element_diameter, unmount
     notes = _notes(fs, fh, hoop, limit, rotating, warn)
     return MountedRow(Pd0, mounted, operating, fs.operating_interference, fh.operating_interference, fs.pressure,
                       fh.pressure, grow_i, shrink_o, free_i, free_o, ball, hoop["inner ring"], hoop["outer ring"],
-                      hoop["mounted inner ring"], hoop["mounted outer ring"], fs, fh, tuple(notes))
+                      hoop["mounted inner ring"], hoop["mounted outer ring"], fs, fh,
+                      {"shaft": m_shaft, "inner_ring": m_ir, "outer_ring": m_or, "balls": m_ball,
+                       "housing": m_housing}, tuple(notes))
 
 
 def _hoops(ring_i: _Body, ring_o: _Body, fs: Fit, fh: Fit, d: float, De: float) -> dict[str, float]:
