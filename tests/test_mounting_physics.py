@@ -452,3 +452,16 @@ def test_refusals_name_the_field(kw, field, rule):
         row(**kw)
     assert info.value.field == field
     assert rule in str(info.value)
+
+
+def test_a_loose_housing_fit_tightened_by_a_warm_outer_ring():
+    """A 2 um loose fit, the outer ring 20 K warmer than the housing (both steel): 2 alpha dT D/2 = 13 um of
+    growth leaves 11 um of interference running, none as mounted."""
+    r = row(unmounted_diametral_clearance=0.02, housing_interference=-0.002, outer_ring_temperature=40.0,
+            housing_temperature=20.0)
+    assert r.housing_interference == pytest.approx(-0.002 + 12.5e-6 * 20.0 * 52.0, rel=1e-12)
+    assert r.housing_fit.mounted_pressure == 0.0 and r.mounted_diametral_clearance == 0.02
+    h = 46.98 / 52.0
+    assert r.housing_fit_pressure == pytest.approx(0.5 * E_STEEL * r.housing_interference / 52.0 * (1 - h * h),
+                                                   rel=1e-12)
+    assert r.outer_raceway_contraction == pytest.approx(h * r.housing_interference, rel=1e-12)

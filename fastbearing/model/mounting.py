@@ -46,7 +46,7 @@ raceway grows, outer raceway contracts), and per row
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 import warnings
 
 from .. import validate
@@ -302,11 +302,11 @@ def _fit(inner: _Body, outer: _Body, radius: float, nominal: float, loss_per_rpm
 
 
 def _loss_per_rpm2(inner: _Body, outer: _Body, radius: float) -> float | None:
-    """Diametral interference in mm lost per rpm^2: the same bodies with each spinning one at 1 rpm."""
-    if (inner.speed > 0.0 and inner.outer_radius is None) or (outer.speed > 0.0 and outer.outer_radius is None):
+    """Diametral interference in mm lost per rpm^2, from the two bodies with their rotating ones at 1 rpm
+    (None: an infinitely thick body would spin)."""
+    if any(body.speed > 0.0 and body.outer_radius is None for body in (inner, outer)):
         return None
-    one = [replace(body, speed=1.0) if body.speed > 0.0 else body for body in (inner, outer)]
-    return -2.0 * (one[0].centrifugal(radius) - one[1].centrifugal(radius))
+    return -2.0 * (inner.centrifugal(radius) - outer.centrifugal(radius))
 
 
 # -- a mounted row ------------------------------------------------------------------
@@ -481,8 +481,8 @@ def mount_row(*, bore, outer_diameter, pitch_diameter, element_diameter, unmount
     mounted = (Pd0 - 2.0 * ring_i.pressed(ri, p_inner=fs.mounted_pressure)
                + 2.0 * ring_o.pressed(ro, p_outer=fh.mounted_pressure))
 
-    hoop = _hoops(ring_i, ring_o, fs, fh, d, De)
-    notes = _notes(fs, fh, hoop, limit, rotating, warn)
+    hoop = _hoops(ring_i, ring_o, fs, fh)
+    notes = _notes(fs, fh, hoop, limit, warn)
     return MountedRow(Pd0, mounted, operating, fs.operating_interference, fh.operating_interference, fs.pressure,
                       fh.pressure, grow_i, shrink_o, free_i, free_o, ball, hoop["inner ring"], hoop["outer ring"],
                       hoop["mounted inner ring"], hoop["mounted outer ring"], fs, fh,
@@ -490,7 +490,7 @@ def mount_row(*, bore, outer_diameter, pitch_diameter, element_diameter, unmount
                        "housing": m_housing}, tuple(notes))
 
 
-def _hoops(ring_i: _Body, ring_o: _Body, fs: Fit, fh: Fit, d: float, De: float) -> dict[str, float]:
+def _hoops(ring_i: _Body, ring_o: _Body, fs: Fit, fh: Fit) -> dict[str, float]:
     """Hoop stresses in N/mm^2 at the inner ring's bore and the outer ring's raceway (its bore)."""
     a_i, b_i = ring_i.inner_radius, ring_i.outer_radius
     a_o, b_o = ring_o.inner_radius, ring_o.outer_radius
@@ -500,7 +500,7 @@ def _hoops(ring_i: _Body, ring_o: _Body, fs: Fit, fh: Fit, d: float, De: float) 
             "mounted outer ring": pressure_hoop_stress(a_o, a_o, b_o, p_outer=fh.mounted_pressure)}
 
 
-def _notes(fs: Fit, fh: Fit, hoop: dict, limit: float, rotating: str, warn: bool) -> list[str]:
+def _notes(fs: Fit, fh: Fit, hoop: dict, limit: float, warn: bool) -> list[str]:
     notes = []
     for name, fit, part in (("shaft", fs, "inner ring"), ("housing", fh, "housing")):
         if fit.nominal_interference <= 0.0 and fit.operating_interference <= 0.0:
