@@ -473,9 +473,9 @@ def mount_row(*, bore, outer_diameter, pitch_diameter, element_diameter, unmount
 
     ri, ro = 0.5 * Di, 0.5 * De
     grow_i = 2.0 * ring_i.pressed(ri, p_inner=fs.pressure)
-    shrink_o = -2.0 * ring_o.pressed(ro, p_outer=fh.pressure)
+    shrink_o = 0.0 - 2.0 * ring_o.pressed(ro, p_outer=fh.pressure)  # 0.0 -: no -0.0 in a report
     free_i = 2.0 * ring_i.free(ri)
-    free_o = -2.0 * ring_o.free(ro)
+    free_o = 0.0 - 2.0 * ring_o.free(ro)
     ball = m_ball.thermal_expansion * (Tb - T0) * Dw
     operating = Pd0 - grow_i - shrink_o - free_i - free_o - 2.0 * ball
     mounted = (Pd0 - 2.0 * ring_i.pressed(ri, p_inner=fs.mounted_pressure)
