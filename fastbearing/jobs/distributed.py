@@ -22,6 +22,7 @@ Needs ``pip install 'fastbearing[dask]'``. Units: N, mm, rad.
 from __future__ import annotations
 
 import os
+import uuid
 
 import numpy as np
 
@@ -97,12 +98,16 @@ def run_blocks(client, job, pending, part, sink, on_written, interrupt, max_in_f
     futures = {}
     retries = {}
     received = 0
+    # task keys unique to this run: a key the scheduler still holds from an earlier run in this process (the
+    # same block index, pid and retry count) would hand back that run's result, e.g. a zarr run's status
+    # counts to an HDF5 run's writer
+    run = uuid.uuid4().hex[:12]
 
     def submit_next(block=None):
         block = next(queue, None) if block is None else block
         if block is None:
             return None
-        key = f"fastbearing-block-{block.index}-{os.getpid()}-{retries.get(block.index, 0)}"
+        key = f"fastbearing-block-{run}-{block.index}-{os.getpid()}-{retries.get(block.index, 0)}"
         if sink is not None:
             future = client.submit(_worker_block_to_store, shipped, block, sink, pure=False, key=key)
         else:
