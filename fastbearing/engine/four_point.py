@@ -25,8 +25,8 @@ from numba import njit, types
 from numba.extending import overload
 
 from ..config import CACHE, ERROR_MODEL, KERNEL_FASTMATH, REFCOUNT
-from .high_speed import BALL_RTOL, _ball_constants, _inner_centre, kinematics, write_contacts, write_state
-from .schema import (AXIAL_OFFSET, COS_NOMINAL, COS_PSI, DEFLECTION_LIMIT, DIAMETER, DIRECTION, GAMMA, INERTIA,
+from .high_speed import BALL_RTOL, _ball_constants, _inner_centre, write_contacts, write_state
+from .schema import (WARM_LINEARISE, WARM_UR, WARM_UZ, AXIAL_OFFSET, COS_NOMINAL, COS_PSI, DEFLECTION_LIMIT, DIAMETER, DIRECTION, GAMMA, INERTIA,
                      INNER_ARM, INNER_CONTROL, INNER_RADIUS, K_INNER, K_OUTER, LAMBDA_INNER, LAMBDA_OUTER,
                      MASS_RADIUS, N_WARM, OUTER_RADIUS, OUTER_SHARE, PITCH_RADIUS, SIN_PSI, WARM_BR, WARM_BZ,
                      WARM_VALID)
@@ -37,6 +37,10 @@ STEP = 1e-20
 ITERATIONS = 60
 #: Halvings of a Newton step that does not lower the residual.
 HALVINGS = 40
+#: The canonical root's continuation in speed (:func:`canonical_settle`): its steps, and the halvings of a
+#: step that does not settle allowed in all.
+SPEED_STEPS = 8
+SPEED_HALVINGS = 12
 
 
 def root(x):
@@ -48,6 +52,38 @@ def _root(x):
     if isinstance(x, types.Complex):
         return lambda x: cmath.sqrt(x)
     return lambda x: math.sqrt(x)
+
+
+def quotient(a, b):
+    """a / b of floats or complexes; a complex 0 divisor gives NaN (numba's complex division raises
+    ZeroDivisionError whatever the error model, and nothing may raise in a kernel: issue 47, a one-ball
+    bearing's wild Newton trial put a ball centre on a groove centre)."""
+
+
+@overload(quotient, inline="always")
+def _quotient(a, b):
+    if isinstance(b, types.Complex):
+        def complex_quotient(a, b):
+            if b.real == 0.0 and b.imag == 0.0:
+                return complex(math.nan, math.nan)
+            return a / b
+        return complex_quotient
+    return lambda a, b: a / b
+
+
+@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def _orbit(ci, si, co, so, w_i, w_o, gamma, inner_control):
+    """(omega_m rad/s, S) of high_speed.kinematics (its values, not its gradients), float or complex, with
+    :func:`quotient`'s division."""
+    C = ci * co + si * so
+    den = 1.0 + C
+    if inner_control:
+        b = 1.0 + gamma * co
+        wm = quotient(w_i * (C - gamma * co) + w_o * b, den)
+        return wm, quotient(wm * b * si, den)
+    a = 1.0 - gamma * ci
+    wm = quotient(w_i * a + w_o * (C + gamma * ci), den)
+    return wm, quotient(wm * a * so, den)
 
 
 @njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
@@ -71,17 +107,17 @@ def _pair(ur, uz, br, bz, p, w_i, w_o, eps):
     centre). Returns (Q_i, Q_o, ci, si, co, so, omega_m, S, delta_i, delta_o) as high_speed.ball_state
     takes them (M_g = J (w_o - w_i)/gamma' S)."""
     Lo = root(br * br + bz * bz)
-    co = br / Lo
-    so = bz / Lo
+    co = quotient(br, Lo)
+    so = quotient(bz, Lo)
     vr = ur - br
     vz = uz - bz
     Li = root(vr * vr + vz * vz)
-    ci = vr / Li
-    si = vz / Li
+    ci = quotient(vr, Li)
+    si = quotient(vz, Li)
     d_o, Qo = _contact(Lo, p[OUTER_RADIUS], p[K_OUTER], eps)
     d_i, Qi = _contact(Li, p[INNER_RADIUS], p[K_INNER], eps)
-    k = kinematics(ci, si, co, so, w_i, w_o, p[GAMMA], p[INNER_CONTROL] != 0.0)
-    return Qi, Qo, ci, si, co, so, k[0], k[5], d_i, d_o
+    wm, S = _orbit(ci, si, co, so, w_i, w_o, p[GAMMA], p[INNER_CONTROL] != 0.0)
+    return Qi, Qo, ci, si, co, so, wm, S, d_i, d_o
 
 
 @njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
@@ -97,7 +133,7 @@ def four_point_ball(br, bz, u1r, u1z, u2r, u2z, p, w_i, w_o, eps):
                                                             w_i, w_o, eps)
     P1 = Qi1 + Qo1
     total = P1 + Qi2 + Qo2
-    w1 = P1 / total if total.real > 0.0 else 0.5 + 0.0 * total
+    w1 = quotient(P1, total) if total.real > 0.0 else 0.5 + 0.0 * total
     w2 = 1.0 - w1
     wm = w1 * wm1 + w2 * wm2
     Fc = p[MASS_RADIUS] * wm * wm
@@ -208,20 +244,57 @@ def settle_four_point(u, p, w_i, w_o, eps, br, bz):
 
 
 @njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
+def canonical_settle(u, p, w_i, w_o, eps):
+    """The ball's canonical root at u (a property of u, so of q, alone; docs/model.md): Newton from the cold
+    guess (:func:`_cold_guess`) and, where that does not settle, the root continued in speed from standing
+    still, at the same u: settled at SPEED_STEPS fractions of (w_i, w_o), each from the last (a fraction that
+    does not settle is halved, at most SPEED_HALVINGS times in all). Near its speed limit the cold guess can
+    sit on a fold of the residual (Newton stops where its Jacobian is singular, not at a root: issue 47);
+    the continuation goes round it. Returns :func:`settle_four_point`'s tuple, its iterations summed."""
+    br, bz = _cold_guess(u, p, w_i, w_o)
+    first = settle_four_point(u, p, w_i, w_o, eps, br, bz)
+    if first[3]:
+        return first
+    iterations = first[2]
+    done = 0.0
+    step = 1.0 / SPEED_STEPS
+    br, bz = _cold_guess(u, p, w_i * step, w_o * step)
+    halvings = 0
+    while True:
+        s = min(1.0, done + step)
+        out = settle_four_point(u, p, w_i * s, w_o * s, eps, br, bz)
+        iterations += out[2]
+        if out[3]:
+            done = s
+            br, bz = out[0], out[1]
+            if done >= 1.0:
+                return out[0], out[1], iterations, True, out[4], out[5], out[6], out[7]
+        else:
+            halvings += 1
+            if halvings > SPEED_HALVINGS:
+                return first[0], first[1], iterations, False, first[4], first[5], first[6], first[7]
+            step *= 0.5
+
+
+@njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
 def four_point_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact_angle, states, warm, pairs):
     """Add the four-point balls' share to f (5) and, unless ``K`` is None, Kb (5x5), in place; the arguments
     as high_speed.spinning_balls', which has written the other balls' share; ``pairs`` (2, n) the columns of each
-    ball's pair + and pair - (schema.ElementSet.four_point). Each ball (column j of pair +, m of pair -) starts from its centre in ``warm`` (WARM_BR, WARM_BZ where WARM_VALID) or a cold
-    guess, is settled (never linearised), and adds through each pair's column J = [a; b] (its contact
+    ball's pair + and pair - (schema.ElementSet.four_point). Each ball (column j of pair +, m of pair -) is
+    settled at its canonical root (:func:`canonical_settle`), or inside a solve (``warm`` row WARM_LINEARISE),
+    where its u moved since its last evaluation, from its last centre (WARM_BR, WARM_BZ where WARM_VALID; its
+    u in WARM_UR, WARM_UZ of both columns), flagged 8; it is never linearised. It adds through each pair's column J = [a; b] (its contact
     direction's sign on b) f += J^T F + w m and Kb += sum over both pairs' J^T (dF/du) J'. Records as
     spinning_balls: Q_i and alpha_i of each pair at its column, Q_o and alpha_o after them in a record of
     2 n_balls, the whole ball in ``states``. Returns (sum of Q_i N, loaded contact pairs, warning bits:
-    2 beyond validity, 4 a ball not settled)."""
+    2 beyond validity, 4 a ball not settled, 8 a ball settled from its last centre: evaluate again for the
+    canonical root)."""
     n = table.shape[1]
     total = 0.0
     n_loaded = 0
     flags = 0
     scratch = warm.reshape(warm.size)[N_WARM * n:]  # 6 x 4 condensed stiffness, after the ball pass's use
+    linearise = n > 0 and states is None and warm[WARM_LINEARISE, 0] != 0.0
     for b in range(pairs.shape[1]):
         j = int(pairs[0, b])
         m_col = int(pairs[1, b])
@@ -229,16 +302,26 @@ def four_point_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact
         u1r, u1z = _inner_centre(q, table, j)
         u2r, u2z = _inner_centre(q, table, m_col)
         u = (0.0, 0.0, u1r, u1z, u2r, u2z)
-        if warm[WARM_VALID, j] != 0.0:
-            br, bz = warm[WARM_BR, j], warm[WARM_BZ, j]
-        else:
-            br, bz = _cold_guess(u, p, w_i, w_o)
-        br, bz, iterations, settled, y, st, dB0, dB1 = settle_four_point(u, p, w_i, w_o, eps, br, bz)
-        if not settled and warm[WARM_VALID, j] != 0.0:  # a stale warm start: once more from the cold guess
-            br, bz = _cold_guess(u, p, w_i, w_o)
-            br, bz, iterations, settled, y, st, dB0, dB1 = settle_four_point(u, p, w_i, w_o, eps, br, bz)
+        # inside a solve a ball moved since its last evaluation starts from its last centre and is flagged
+        # BALL_LINEARISED (bit 8): the solver evaluates at its answer's q again before it converges, and that
+        # evaluation (the same u, bit for bit) and every other one take the canonical root, a property of q
+        # alone (:func:`canonical_settle`), so that stiffness(q), ball_contacts(q) and the records repeat it
+        settled = False
+        if (linearise and warm[WARM_VALID, j] != 0.0
+                and not (warm[WARM_UR, j] == u1r and warm[WARM_UZ, j] == u1z
+                         and warm[WARM_UR, m_col] == u2r and warm[WARM_UZ, m_col] == u2z)):
+            br, bz, iterations, settled, y, st, dB0, dB1 = settle_four_point(u, p, w_i, w_o, eps, warm[WARM_BR, j],
+                                                                             warm[WARM_BZ, j])
+            if settled:
+                flags |= 8
+        if not settled:
+            br, bz, iterations, settled, y, st, dB0, dB1 = canonical_settle(u, p, w_i, w_o, eps)
         warm[WARM_BR, j] = br
         warm[WARM_BZ, j] = bz
+        warm[WARM_UR, j] = u1r
+        warm[WARM_UZ, j] = u1z
+        warm[WARM_UR, m_col] = u2r
+        warm[WARM_UZ, m_col] = u2z
         warm[WARM_VALID, j] = 1.0 if settled else 0.0
         if not settled:
             flags |= 4
