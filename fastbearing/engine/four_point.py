@@ -171,6 +171,175 @@ def _derivative(x, k, p, w_i, w_o, eps):
             y[6].imag / h, y[7].imag / h)
 
 
+# -- forward-mode dual numbers: (value, d/dx_0, ..., d/dx_5), x = (br, bz, u1r, u1z, u2r, u2z) --------------
+
+@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def dconst(c):
+    """The constant c as a dual number (its derivatives 0)."""
+    return (c, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+
+
+@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def dadd(a, b):
+    """a + b."""
+    return (a[0] + b[0], a[1] + b[1], a[2] + b[2], a[3] + b[3], a[4] + b[4], a[5] + b[5], a[6] + b[6])
+
+
+@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def dsub(a, b):
+    """a - b."""
+    return (a[0] - b[0], a[1] - b[1], a[2] - b[2], a[3] - b[3], a[4] - b[4], a[5] - b[5], a[6] - b[6])
+
+
+@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def dshift(a, c):
+    """a + c, c a float."""
+    return (a[0] + c, a[1], a[2], a[3], a[4], a[5], a[6])
+
+
+@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def dscale(c, a):
+    """c a, c a float."""
+    return (c * a[0], c * a[1], c * a[2], c * a[3], c * a[4], c * a[5], c * a[6])
+
+
+@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def dmul(a, b):
+    """a b."""
+    return (a[0] * b[0], a[0] * b[1] + a[1] * b[0], a[0] * b[2] + a[2] * b[0], a[0] * b[3] + a[3] * b[0],
+            a[0] * b[4] + a[4] * b[0], a[0] * b[5] + a[5] * b[0], a[0] * b[6] + a[6] * b[0])
+
+
+@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def ddiv(a, b):
+    """a / b (a zero b: inf or NaN under the numpy error model, never an exception)."""
+    v = a[0] / b[0]
+    return (v, (a[1] - v * b[1]) / b[0], (a[2] - v * b[2]) / b[0], (a[3] - v * b[3]) / b[0],
+            (a[4] - v * b[4]) / b[0], (a[5] - v * b[5]) / b[0], (a[6] - v * b[6]) / b[0])
+
+
+@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def dsqrt(a):
+    """sqrt(a), a > 0."""
+    v = math.sqrt(a[0])
+    h = 0.5 / v
+    return (v, h * a[1], h * a[2], h * a[3], h * a[4], h * a[5], h * a[6])
+
+
+@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def dhertz(delta, k):
+    """k delta^1.5 of a deflection delta >= 0: its derivative 1.5 k delta^0.5 delta' (0 at delta = 0,
+    where the chain rule through a sqrt would give inf times 0)."""
+    sq = math.sqrt(delta[0])
+    h = 1.5 * k * sq
+    return (k * delta[0] * sq, h * delta[1], h * delta[2], h * delta[3], h * delta[4], h * delta[5], h * delta[6])
+
+
+@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def dpart(a, k):
+    """The derivative of the dual number a along input k (0 .. 5)."""
+    return a[1 + k]
+
+
+@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def _dual_contact(L, r0, k, eps):
+    """:func:`_contact` of a dual number L: (deflection, load)."""
+    d = dshift(L, -r0)
+    if eps > 0.0:
+        delta = dscale(0.5, dadd(d, dsqrt(dshift(dmul(d, d), eps * eps))))
+    elif d[0] > 0.0:
+        delta = d
+    else:
+        delta = dconst(0.0)
+    return delta, dhertz(delta, k)
+
+
+@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def _dual_orbit(ci, si, co, so, w_i, w_o, gamma, inner_control):
+    """:func:`_orbit` of dual numbers: (omega_m, S)."""
+    C = dadd(dmul(ci, co), dmul(si, so))
+    den = dshift(C, 1.0)
+    if inner_control:
+        b = dshift(dscale(gamma, co), 1.0)
+        wm = ddiv(dadd(dscale(w_i, dsub(C, dscale(gamma, co))), dscale(w_o, b)), den)
+        return wm, ddiv(dmul(dmul(wm, b), si), den)
+    a = dshift(dscale(-gamma, ci), 1.0)
+    wm = ddiv(dadd(dscale(w_i, a), dscale(w_o, dadd(C, dscale(gamma, ci)))), den)
+    return wm, ddiv(dmul(dmul(wm, a), so), den)
+
+
+@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def _dual_pair(ur, uz, br, bz, p, w_i, w_o, eps):
+    """:func:`_pair` of dual numbers: (Q_i, Q_o, ci, si, co, so, omega_m, S)."""
+    Lo = dsqrt(dadd(dmul(br, br), dmul(bz, bz)))
+    co = ddiv(br, Lo)
+    so = ddiv(bz, Lo)
+    vr = dsub(ur, br)
+    vz = dsub(uz, bz)
+    Li = dsqrt(dadd(dmul(vr, vr), dmul(vz, vz)))
+    ci = ddiv(vr, Li)
+    si = ddiv(vz, Li)
+    _, Qo = _dual_contact(Lo, p[OUTER_RADIUS], p[K_OUTER], eps)
+    _, Qi = _dual_contact(Li, p[INNER_RADIUS], p[K_INNER], eps)
+    wm, S = _dual_orbit(ci, si, co, so, w_i, w_o, p[GAMMA], p[INNER_CONTROL] != 0.0)
+    return Qi, Qo, ci, si, co, so, wm, S
+
+
+@njit(inline="always")
+def _column(y0, y1, y2, y3, y4, y5, y6, y7, i):
+    """Component i of the eight dual numbers."""
+    return (y0[i], y1[i], y2[i], y3[i], y4[i], y5[i], y6[i], y7[i])
+
+
+@njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
+def ball_jacobian(x, p, w_i, w_o, eps):
+    """d(g, F_1, m_1, F_2, m_2)/dx (six columns of 8 values, column k along x_k) at x = (br, bz, u1r, u1z, u2r,
+    u2z): :func:`four_point_ball`'s first output in forward-mode dual numbers (each quantity carried with its
+    six partial derivatives, real arithmetic, exact to rounding as the complex step, :func:`_derivative`,
+    which the tests keep as its oracle; one pass gives all six columns)."""
+    z6 = 0.0
+    br = (x[0], 1.0, z6, z6, z6, z6, z6)
+    bz = (x[1], z6, 1.0, z6, z6, z6, z6)
+    u1r = (x[2], z6, z6, 1.0, z6, z6, z6)
+    u1z = (x[3], z6, z6, z6, 1.0, z6, z6)
+    u2r = (x[4], z6, z6, z6, z6, 1.0, z6)
+    u2z = (x[5], z6, z6, z6, z6, z6, 1.0)
+    s0 = math.sqrt(1.0 - p[COS_NOMINAL] * p[COS_NOMINAL])
+    Qi1, Qo1, ci1, si1, co1, so1, wm1, S1 = _dual_pair(u1r, u1z, br, bz, p, w_i, w_o, eps)
+    Qi2, Qo2, ci2, si2, co2, so2, wm2, S2 = _dual_pair(u2r, u2z, br, dsub(dconst(2.0 * p[OUTER_RADIUS] * s0), bz),
+                                                       p, w_i, w_o, eps)
+    P1 = dadd(Qi1, Qo1)
+    total = dadd(P1, dadd(Qi2, Qo2))
+    w1 = ddiv(P1, total) if total[0] > 0.0 else dconst(0.5)
+    w2 = dsub(dconst(1.0), w1)
+    wm = dadd(dmul(w1, wm1), dmul(w2, wm2))
+    Fc = dscale(p[MASS_RADIUS], dmul(wm, wm))
+    jd = p[INERTIA] * (w_o - w_i) / p[GAMMA] / p[DIAMETER]
+    f1 = dscale(jd, dmul(w1, S1))
+    f2 = dscale(jd, dmul(w2, S2))
+    li = p[LAMBDA_INNER]
+    lo = p[LAMBDA_OUTER]
+    g1r = dadd(dsub(dmul(Qi1, ci1), dmul(Qo1, co1)), dmul(f1, dsub(dscale(li, si1), dscale(lo, so1))))
+    g1z = dadd(dsub(dmul(Qi1, si1), dmul(Qo1, so1)), dmul(f1, dsub(dscale(lo, co1), dscale(li, ci1))))
+    g2r = dadd(dsub(dmul(Qi2, ci2), dmul(Qo2, co2)), dmul(f2, dsub(dscale(li, si2), dscale(lo, so2))))
+    g2z = dadd(dsub(dmul(Qi2, si2), dmul(Qo2, so2)), dmul(f2, dsub(dscale(lo, co2), dscale(li, ci2))))
+    on1 = Qi1[0] > 0.0 or eps != 0.0
+    on2 = Qi2[0] > 0.0 or eps != 0.0
+    zero = dconst(0.0)
+    arm = li * p[INNER_ARM]
+    y0 = dadd(dadd(g1r, g2r), Fc)
+    y1 = dsub(g1z, g2z)
+    y2 = dadd(dmul(Qi1, ci1), dscale(li, dmul(f1, si1))) if on1 else zero
+    y3 = dsub(dmul(Qi1, si1), dscale(li, dmul(f1, ci1))) if on1 else zero
+    y4 = dscale(arm, f1) if on1 else zero
+    y5 = dadd(dmul(Qi2, ci2), dscale(li, dmul(f2, si2))) if on2 else zero
+    y6 = dsub(dmul(Qi2, si2), dscale(li, dmul(f2, ci2))) if on2 else zero
+    y7 = dscale(arm, f2) if on2 else zero
+    return (_column(y0, y1, y2, y3, y4, y5, y6, y7, 1), _column(y0, y1, y2, y3, y4, y5, y6, y7, 2),
+            _column(y0, y1, y2, y3, y4, y5, y6, y7, 3), _column(y0, y1, y2, y3, y4, y5, y6, y7, 4),
+            _column(y0, y1, y2, y3, y4, y5, y6, y7, 5), _column(y0, y1, y2, y3, y4, y5, y6, y7, 6))
+
+
 @njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
 def _residual(br, bz, u, p, w_i, w_o, eps):
     """(largest residual component N, force scale N, and the ball's evaluation (y, st)) at B."""
@@ -210,23 +379,23 @@ def _cold_guess(u, p, w_i, w_o):
 @njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
 def settle_four_point(u, p, w_i, w_o, eps, br, bz):
     """The ball's centre B (mm, pair +'s frame) where its residual vanishes, by damped Newton from (br, bz)
-    with the complex-step Jacobian (u: the inner groove centres as in :func:`_derivative`'s x[2:]). Settled
+    with the analytic Jacobian (:func:`ball_jacobian`; u: the inner groove centres as its x[2:]). Settled
     within BALL_RTOL of its largest force, or (the lightest contacts) within the rounding floor of its
     position, as high_speed's balls. Returns (br, bz, iterations, settled, and at B the ball's evaluation y,
-    st and its Jacobian columns dg/dB_r, dg/dB_z as :func:`_derivative` gives them, for the caller to reuse)."""
+    st and its six Jacobian columns J, for the caller to reuse)."""
     longest = 0.05 * p[DIAMETER]  # the longest step: a twentieth of the ball
     reach = p[INNER_RADIUS] + p[OUTER_RADIUS] + abs(u[2]) + abs(u[3]) + abs(u[4]) + abs(u[5])
     res, scale, y, st = _residual(br, bz, u, p, w_i, w_o, eps)
     for it in range(ITERATIONS + 1):
-        x = (br, bz, u[2], u[3], u[4], u[5])
-        a = _derivative(x, np.int64(0), p, w_i, w_o, eps)  # a run-time index: one compiled variant
-        b = _derivative(x, np.int64(1), p, w_i, w_o, eps)
+        J = ball_jacobian((br, bz, u[2], u[3], u[4], u[5]), p, w_i, w_o, eps)
+        a = J[0]
+        b = J[1]
         floor = 8.0 * 2.220446049250313e-16 * reach * (abs(a[0]) + abs(a[1]) + abs(b[0]) + abs(b[1]))
         if res <= max(BALL_RTOL * scale, floor):
-            return br, bz, it, True, y, st, a, b
+            return br, bz, it, True, y, st, J
         det = a[0] * b[1] - b[0] * a[1]
         if it == ITERATIONS or det == 0.0 or not math.isfinite(det):
-            return br, bz, it, False, y, st, a, b
+            return br, bz, it, False, y, st, J
         step_r = (b[1] * y[0] - b[0] * y[1]) / det
         step_z = (a[0] * y[1] - a[1] * y[0]) / det
         t = min(1.0, longest / max(math.sqrt(step_r * step_r + step_z * step_z), 1e-300))
@@ -236,11 +405,11 @@ def settle_four_point(u, p, w_i, w_o, eps, br, bz):
                 break
             t *= 0.5
         if not trial < res:  # no step lowers the residual: as settled as float64 gets, or stuck
-            return br, bz, it, res <= max(BALL_RTOL * scale, 4.0 * floor), y, st, a, b
+            return br, bz, it, res <= max(BALL_RTOL * scale, 4.0 * floor), y, st, J
         br -= t * step_r
         bz -= t * step_z
         res, scale, y, st = trial, trial_scale, y_t, st_t
-    return br, bz, ITERATIONS, False, y, st, a, b  # not reached: the last pass returns
+    return br, bz, ITERATIONS, False, y, st, J  # not reached: the last pass returns
 
 
 @njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
@@ -268,11 +437,11 @@ def canonical_settle(u, p, w_i, w_o, eps):
             done = s
             br, bz = out[0], out[1]
             if done >= 1.0:
-                return out[0], out[1], iterations, True, out[4], out[5], out[6], out[7]
+                return out[0], out[1], iterations, True, out[4], out[5], out[6]
         else:
             halvings += 1
             if halvings > SPEED_HALVINGS:
-                return first[0], first[1], iterations, False, first[4], first[5], first[6], first[7]
+                return first[0], first[1], iterations, False, first[4], first[5], first[6]
             step *= 0.5
 
 
@@ -310,12 +479,12 @@ def four_point_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact
         if (linearise and warm[WARM_VALID, j] != 0.0
                 and not (warm[WARM_UR, j] == u1r and warm[WARM_UZ, j] == u1z
                          and warm[WARM_UR, m_col] == u2r and warm[WARM_UZ, m_col] == u2z)):
-            br, bz, iterations, settled, y, st, dB0, dB1 = settle_four_point(u, p, w_i, w_o, eps, warm[WARM_BR, j],
+            br, bz, iterations, settled, y, st, J = settle_four_point(u, p, w_i, w_o, eps, warm[WARM_BR, j],
                                                                              warm[WARM_BZ, j])
             if settled:
                 flags |= 8
         if not settled:
-            br, bz, iterations, settled, y, st, dB0, dB1 = canonical_settle(u, p, w_i, w_o, eps)
+            br, bz, iterations, settled, y, st, J = canonical_settle(u, p, w_i, w_o, eps)
         warm[WARM_BR, j] = br
         warm[WARM_BZ, j] = bz
         warm[WARM_UR, j] = u1r
@@ -354,7 +523,7 @@ def four_point_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact
             write_state(states, j, Qi1, Qo1, ci1, si1, co1, so1, Fc, Mg, wm, iterations, residual)
             write_state(states, m_col, Qi2, Qo2, ci2, si2, co2, so2, Fc, Mg, wm, iterations, residual)
         if K is not None:
-            _add_stiffness(K, scratch, (br, bz, u1r, u1z, u2r, u2z), p, w_i, w_o, eps, c, s, z, R, s1, s2, dB0, dB1)
+            _add_stiffness(K, scratch, J, c, s, z, R, s1, s2)
     return total, n_loaded, flags
 
 
@@ -365,13 +534,15 @@ def _dot(scratch, row, du):
 
 
 @njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
-def _add_stiffness(K, scratch, x, p, w_i, w_o, eps, c, s, z, R, s1, s2, dB0, dB1):
+def _add_stiffness(K, scratch, J, c, s, z, R, s1, s2):
     """Kb += one four-point ball's share: the condensed dY/du = Y_u - Y_B G_B^-1 G_u (Y = (F_1, m_1, F_2, m_2),
-    u = (u1, u2); 6 x 4 in ``scratch``) mapped through both pairs' columns; dB0, dB1 the derivatives along
-    B_r, B_z at x (the settle's last Jacobian, at this very B)."""
+    u = (u1, u2); 6 x 4 in ``scratch``) mapped through both pairs' columns; J the six columns of
+    :func:`ball_jacobian` at the ball's B (the settle's last, at this very B)."""
+    dB0 = J[0]
+    dB1 = J[1]
     det = dB0[0] * dB1[1] - dB1[0] * dB0[1]
     for m in range(4):
-        du = _derivative(x, 2 + m, p, w_i, w_o, eps)
+        du = J[2 + m]
         x0 = (dB1[1] * du[0] - dB1[0] * du[1]) / det  # X = G_B^-1 G_u, column m
         x1 = (dB0[0] * du[1] - dB0[1] * du[0]) / det
         for i in range(6):
