@@ -12,9 +12,11 @@ omega_m^2), and pair a's races carry w_a M_g,a by its own race control. A ball w
 is exactly the angular contact ball of pair +.
 
 f is the model's; the derivatives (the ball's Newton Jacobian and Kb, condensed over B as the angular contact
-ball's: dF/du = F_u - F_B G_B^-1 G_u) come by complex step, d y/dx = Im y(x + i h)/h with h = 1e-20 mm:
-exact to rounding, with no difference quotient to lose digits, so that the contact, kinematics and weight
-terms need no hand-written derivative. Units: mm, N, N*mm, rad, rad/s.
+ball's: dF/du = F_u - F_B G_B^-1 G_u) come from one forward-mode pass in dual numbers (:func:`ball_jacobian`:
+each quantity carried with its six partial derivatives, real arithmetic), exact to rounding, so that the
+contact, kinematics and weight terms need no hand-written derivative. The complex step it replaced
+(:func:`_derivative`, d y/dx = Im y(x + i h)/h, h = 1e-20 mm) stays as the tests' oracle. Which of several
+roots a ball takes is a property of q alone (:func:`canonical_settle`). Units: mm, N, N*mm, rad, rad/s.
 """
 
 import cmath
@@ -26,10 +28,10 @@ from numba.extending import overload
 
 from ..config import CACHE, ERROR_MODEL, KERNEL_FASTMATH, REFCOUNT
 from .high_speed import BALL_RTOL, _ball_constants, _inner_centre, write_contacts, write_state
-from .schema import (WARM_LINEARISE, WARM_UR, WARM_UZ, AXIAL_OFFSET, COS_NOMINAL, COS_PSI, DEFLECTION_LIMIT, DIAMETER, DIRECTION, GAMMA, INERTIA,
+from .schema import (AXIAL_OFFSET, COS_NOMINAL, COS_PSI, DEFLECTION_LIMIT, DIAMETER, DIRECTION, GAMMA, INERTIA,
                      INNER_ARM, INNER_CONTROL, INNER_RADIUS, K_INNER, K_OUTER, LAMBDA_INNER, LAMBDA_OUTER,
                      MASS_RADIUS, N_WARM, OUTER_RADIUS, OUTER_SHARE, PITCH_RADIUS, SIN_PSI, WARM_BR, WARM_BZ,
-                     WARM_VALID)
+                     WARM_LINEARISE, WARM_UR, WARM_UZ, WARM_VALID, WARM_X00, WARM_X01, WARM_X10, WARM_X11)
 
 #: The complex step (mm): far below any length of the model, far above underflow.
 STEP = 1e-20
@@ -125,8 +127,8 @@ def four_point_ball(br, bz, u1r, u1z, u2r, u2z, p, w_i, w_o, eps):
     """A four-point ball at centre B = (br, bz) (mm, pair +'s frame) between the inner groove centres u1 (pair
     +'s frame) and u2 (pair -'s): its residual g (N, pair +'s frame), each pair's ring share (F_r, F_z in N,
     m in N*mm, in the pair's frame; nothing where the pair's inner contact is open) and what a record needs.
-    Float or complex throughout (the complex step); not inlined, so that it compiles twice in all (float,
-    complex), not once per caller."""
+    Float or complex throughout (complex: the tests' complex-step oracle, :func:`_derivative`); not inlined,
+    so that it compiles once per type, not once per caller."""
     s0 = math.sqrt(1.0 - p[COS_NOMINAL] * p[COS_NOMINAL])
     Qi1, Qo1, ci1, si1, co1, so1, wm1, S1, di1, do1 = _pair(u1r, u1z, br, bz, p, w_i, w_o, eps)
     Qi2, Qo2, ci2, si2, co2, so2, wm2, S2, di2, do2 = _pair(u2r, u2z, br, 2.0 * p[OUTER_RADIUS] * s0 - bz, p,
@@ -161,7 +163,8 @@ def four_point_ball(br, bz, u1r, u1z, u2r, u2z, p, w_i, w_o, eps):
 
 @njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
 def _derivative(x, k, p, w_i, w_o, eps):
-    """d(g, F_1, m_1, F_2, m_2)/dx_k (8 values) at x = (br, bz, u1r, u1z, u2r, u2z) by complex step."""
+    """d(g, F_1, m_1, F_2, m_2)/dx_k (8 values) at x = (br, bz, u1r, u1z, u2r, u2z) by complex step: the oracle
+    of :func:`ball_jacobian` in the tests (the kernel does not call it)."""
     h = STEP
     y = four_point_ball(complex(x[0], h if k == 0 else 0.0), complex(x[1], h if k == 1 else 0.0),
                         complex(x[2], h if k == 2 else 0.0), complex(x[3], h if k == 3 else 0.0),
@@ -479,8 +482,16 @@ def four_point_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact
         if (linearise and warm[WARM_VALID, j] != 0.0
                 and not (warm[WARM_UR, j] == u1r and warm[WARM_UZ, j] == u1z
                          and warm[WARM_UR, m_col] == u2r and warm[WARM_UZ, m_col] == u2z)):
-            br, bz, iterations, settled, y, st, J = settle_four_point(u, p, w_i, w_o, eps, warm[WARM_BR, j],
-                                                                             warm[WARM_BZ, j])
+            # the first-order prediction B - X (u - u_last), X = G_B^-1 G_u (2 x 4) of the last settle
+            du1r = u1r - warm[WARM_UR, j]
+            du1z = u1z - warm[WARM_UZ, j]
+            du2r = u2r - warm[WARM_UR, m_col]
+            du2z = u2z - warm[WARM_UZ, m_col]
+            br = warm[WARM_BR, j] - (warm[WARM_X00, j] * du1r + warm[WARM_X01, j] * du1z
+                                     + warm[WARM_X00, m_col] * du2r + warm[WARM_X01, m_col] * du2z)
+            bz = warm[WARM_BZ, j] - (warm[WARM_X10, j] * du1r + warm[WARM_X11, j] * du1z
+                                     + warm[WARM_X10, m_col] * du2r + warm[WARM_X11, m_col] * du2z)
+            br, bz, iterations, settled, y, st, J = settle_four_point(u, p, w_i, w_o, eps, br, bz)
             if settled:
                 flags |= 8
         if not settled:
@@ -491,7 +502,15 @@ def four_point_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact
         warm[WARM_UZ, j] = u1z
         warm[WARM_UR, m_col] = u2r
         warm[WARM_UZ, m_col] = u2z
-        warm[WARM_VALID, j] = 1.0 if settled else 0.0
+        det = J[0][0] * J[1][1] - J[1][0] * J[0][1]
+        for col, k in ((j, 2), (m_col, 4)):  # X = G_B^-1 G_u: its u1 columns at j, its u2 columns at m
+            gr0, gz0, gr1, gz1 = J[k][0], J[k][1], J[k + 1][0], J[k + 1][1]
+            warm[WARM_X00, col] = (J[1][1] * gr0 - J[1][0] * gz0) / det
+            warm[WARM_X10, col] = (J[0][0] * gz0 - J[0][1] * gr0) / det
+            warm[WARM_X01, col] = (J[1][1] * gr1 - J[1][0] * gz1) / det
+            warm[WARM_X11, col] = (J[0][0] * gz1 - J[0][1] * gr1) / det
+        good = settled and math.isfinite(det) and det != 0.0
+        warm[WARM_VALID, j] = 1.0 if good else 0.0
         if not settled:
             flags |= 4
         Qi1, Qo1, Qi2, Qo2, ci1, si1, co1, so1, ci2, si2, co2, so2, Fc, Mg, wm, di1, do1, di2, do2 = st
