@@ -174,3 +174,23 @@ def test_the_analytic_jacobian_is_the_complex_step_one_at_many_points():
                 assert np.all(np.abs(J - C) <= 1e-12 * scale), (control, k, eps, np.abs(J - C).max())
                 checked += 1
     assert checked == 6 * N
+
+
+def test_many_solves_do_not_depend_on_the_threads_and_repeat_at_their_q():
+    """solve_many over cases whose balls' warm starts differ by thread and order: q, f and Kb bit for bit
+    the same with 1 and 2 threads, and each answer a fresh evaluation's at its q to rounding (1e-13 of the
+    largest entry, moments over the pitch radius: solve_many takes the shaft speed as speed * (pi/30),
+    fb.stiffness as speed * pi / 30, one ulp apart, which moves the entries that vanish by symmetry)."""
+    rng = np.random.default_rng(9)
+    loads = np.column_stack([rng.uniform(-3000, 3000, (12, 3)), np.zeros((12, 2))])
+    loads[:2] = [REPRO[0][0], [2000.0, 0, 2000.0, 0, 0]]
+    one = fb.solve_many(QJ210, loads, speed=30000.0, threads=1)
+    two = fb.solve_many(QJ210, loads[::-1], speed=30000.0, threads=2)
+    assert np.array_equal(one.status, two.status[::-1]) and one.converged.all()
+    assert np.array_equal(one.q, two.q[::-1]) and np.array_equal(one.K, two.K[::-1])
+    for i in range(len(loads)):
+        f, K = fb.stiffness(QJ210, one.q[i], speed=30000.0)
+        L = QJ210.rows[0].pitch_radius
+        sc = np.array([1, 1, 1, 1 / L, 1 / L])
+        assert np.abs((f - one.f[i]) * sc).max() <= 1e-13 * np.abs(f * sc).max()
+        assert np.abs(K - one.K[i]).max() <= 1e-13 * np.abs(K).max()
