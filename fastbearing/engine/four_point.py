@@ -33,6 +33,9 @@ from .schema import (AXIAL_OFFSET, COS_NOMINAL, COS_PSI, DEFLECTION_LIMIT, DIAME
                      MASS_RADIUS, N_WARM, OUTER_RADIUS, OUTER_SHARE, PITCH_RADIUS, SIN_PSI, WARM_BR, WARM_BZ,
                      WARM_LINEARISE, WARM_UR, WARM_UZ, WARM_VALID, WARM_X00, WARM_X01, WARM_X10, WARM_X11)
 
+#: The Jacobian's stand-in where neither Kb nor a warm start needs it (an f-only evaluation or a record).
+_NO_JACOBIAN = ((1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0), (0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)) + \
+    ((0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0),) * 4
 #: The complex step (mm): far below any length of the model, far above underflow.
 STEP = 1e-20
 #: Newton iterations a four-point ball may take to settle.
@@ -174,74 +177,170 @@ def _derivative(x, k, p, w_i, w_o, eps):
             y[6].imag / h, y[7].imag / h)
 
 
-# -- forward-mode dual numbers: (value, d/dx_0, ..., d/dx_5), x = (br, bz, u1r, u1z, u2r, u2z) --------------
+# -- forward-mode dual numbers: (value, its derivatives along 6 inputs (br, bz, u1r, u1z, u2r, u2z) or 2 (br, bz))
 
-@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
-def dconst(c):
-    """The constant c as a dual number (its derivatives 0)."""
-    return (c, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+def _width(t):
+    """The number of derivatives a dual number of numba type ``t`` carries (its length less one)."""
+    return len(t.types) - 1 if isinstance(t, types.BaseTuple) else -1
 
 
-@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def dconst(c, like):
+    """The constant c as a dual number of ``like``'s width (its derivatives 0)."""
+
+
+@overload(dconst, inline="always")
+def _dconst(c, like):
+    if _width(like) == 2:
+        def impl2(c, like):
+            return (c, 0.0, 0.0)
+        return impl2
+    if _width(like) == 6:
+        def impl6(c, like):
+            return (c, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+        return impl6
+
+
 def dadd(a, b):
     """a + b."""
-    return (a[0] + b[0], a[1] + b[1], a[2] + b[2], a[3] + b[3], a[4] + b[4], a[5] + b[5], a[6] + b[6])
 
 
-@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+@overload(dadd, inline="always")
+def _dadd(a, b):
+    if _width(a) == 2:
+        def impl2(a, b):
+            return (a[0] + b[0], a[1] + b[1], a[2] + b[2])
+        return impl2
+    if _width(a) == 6:
+        def impl6(a, b):
+            return (a[0] + b[0], a[1] + b[1], a[2] + b[2], a[3] + b[3], a[4] + b[4], a[5] + b[5], a[6] + b[6])
+        return impl6
+
+
 def dsub(a, b):
     """a - b."""
-    return (a[0] - b[0], a[1] - b[1], a[2] - b[2], a[3] - b[3], a[4] - b[4], a[5] - b[5], a[6] - b[6])
 
 
-@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+@overload(dsub, inline="always")
+def _dsub(a, b):
+    if _width(a) == 2:
+        def impl2(a, b):
+            return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
+        return impl2
+    if _width(a) == 6:
+        def impl6(a, b):
+            return (a[0] - b[0], a[1] - b[1], a[2] - b[2], a[3] - b[3], a[4] - b[4], a[5] - b[5], a[6] - b[6])
+        return impl6
+
+
 def dshift(a, c):
     """a + c, c a float."""
-    return (a[0] + c, a[1], a[2], a[3], a[4], a[5], a[6])
 
 
-@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+@overload(dshift, inline="always")
+def _dshift(a, c):
+    if _width(a) == 2:
+        def impl2(a, c):
+            return (a[0] + c, a[1], a[2])
+        return impl2
+    if _width(a) == 6:
+        def impl6(a, c):
+            return (a[0] + c, a[1], a[2], a[3], a[4], a[5], a[6])
+        return impl6
+
+
 def dscale(c, a):
     """c a, c a float."""
-    return (c * a[0], c * a[1], c * a[2], c * a[3], c * a[4], c * a[5], c * a[6])
 
 
-@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+@overload(dscale, inline="always")
+def _dscale(c, a):
+    if _width(a) == 2:
+        def impl2(c, a):
+            return (c * a[0], c * a[1], c * a[2])
+        return impl2
+    if _width(a) == 6:
+        def impl6(c, a):
+            return (c * a[0], c * a[1], c * a[2], c * a[3], c * a[4], c * a[5], c * a[6])
+        return impl6
+
+
 def dmul(a, b):
     """a b."""
-    return (a[0] * b[0], a[0] * b[1] + a[1] * b[0], a[0] * b[2] + a[2] * b[0], a[0] * b[3] + a[3] * b[0],
-            a[0] * b[4] + a[4] * b[0], a[0] * b[5] + a[5] * b[0], a[0] * b[6] + a[6] * b[0])
 
 
-@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+@overload(dmul, inline="always")
+def _dmul(a, b):
+    if _width(a) == 2:
+        def impl2(a, b):
+            return (a[0] * b[0], a[0] * b[1] + a[1] * b[0], a[0] * b[2] + a[2] * b[0])
+        return impl2
+    if _width(a) == 6:
+        def impl6(a, b):
+            return (a[0] * b[0], a[0] * b[1] + a[1] * b[0], a[0] * b[2] + a[2] * b[0], a[0] * b[3] + a[3] * b[0],
+                    a[0] * b[4] + a[4] * b[0], a[0] * b[5] + a[5] * b[0],
+                    a[0] * b[6] + a[6] * b[0])
+        return impl6
+
+
 def ddiv(a, b):
     """a / b (a zero b: inf or NaN under the numpy error model, never an exception)."""
-    v = a[0] / b[0]
-    return (v, (a[1] - v * b[1]) / b[0], (a[2] - v * b[2]) / b[0], (a[3] - v * b[3]) / b[0],
-            (a[4] - v * b[4]) / b[0], (a[5] - v * b[5]) / b[0], (a[6] - v * b[6]) / b[0])
 
 
-@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+@overload(ddiv, inline="always")
+def _ddiv(a, b):
+    if _width(a) == 2:
+        def impl2(a, b):
+            v = a[0] / b[0]
+            return (v, (a[1] - v * b[1]) / b[0], (a[2] - v * b[2]) / b[0])
+        return impl2
+    if _width(a) == 6:
+        def impl6(a, b):
+            v = a[0] / b[0]
+            return (v, (a[1] - v * b[1]) / b[0], (a[2] - v * b[2]) / b[0], (a[3] - v * b[3]) / b[0],
+                    (a[4] - v * b[4]) / b[0], (a[5] - v * b[5]) / b[0], (a[6] - v * b[6]) / b[0])
+        return impl6
+
+
 def dsqrt(a):
     """sqrt(a), a > 0."""
-    v = math.sqrt(a[0])
-    h = 0.5 / v
-    return (v, h * a[1], h * a[2], h * a[3], h * a[4], h * a[5], h * a[6])
 
 
-@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+@overload(dsqrt, inline="always")
+def _dsqrt(a):
+    if _width(a) == 2:
+        def impl2(a):
+            v = math.sqrt(a[0])
+            h = 0.5 / v
+            return (v, h * a[1], h * a[2])
+        return impl2
+    if _width(a) == 6:
+        def impl6(a):
+            v = math.sqrt(a[0])
+            h = 0.5 / v
+            return (v, h * a[1], h * a[2], h * a[3], h * a[4], h * a[5], h * a[6])
+        return impl6
+
+
 def dhertz(delta, k):
     """k delta^1.5 of a deflection delta >= 0: its derivative 1.5 k delta^0.5 delta' (0 at delta = 0,
     where the chain rule through a sqrt would give inf times 0)."""
-    sq = math.sqrt(delta[0])
-    h = 1.5 * k * sq
-    return (k * delta[0] * sq, h * delta[1], h * delta[2], h * delta[3], h * delta[4], h * delta[5], h * delta[6])
 
 
-@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
-def dpart(a, k):
-    """The derivative of the dual number a along input k (0 .. 5)."""
-    return a[1 + k]
+@overload(dhertz, inline="always")
+def _dhertz(delta, k):
+    if _width(delta) == 2:
+        def impl2(delta, k):
+            sq = math.sqrt(delta[0])
+            h = 1.5 * k * sq
+            return (k * delta[0] * sq, h * delta[1], h * delta[2])
+        return impl2
+    if _width(delta) == 6:
+        def impl6(delta, k):
+            sq = math.sqrt(delta[0])
+            h = 1.5 * k * sq
+            return (k * delta[0] * sq, h * delta[1], h * delta[2], h * delta[3], h * delta[4], h * delta[5],
+                    h * delta[6])
+        return impl6
 
 
 @njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
@@ -253,7 +352,7 @@ def _dual_contact(L, r0, k, eps):
     elif d[0] > 0.0:
         delta = d
     else:
-        delta = dconst(0.0)
+        delta = dconst(0.0, L)
     return delta, dhertz(delta, k)
 
 
@@ -294,27 +393,17 @@ def _column(y0, y1, y2, y3, y4, y5, y6, y7, i):
     return (y0[i], y1[i], y2[i], y3[i], y4[i], y5[i], y6[i], y7[i])
 
 
-@njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
-def ball_jacobian(x, p, w_i, w_o, eps):
-    """d(g, F_1, m_1, F_2, m_2)/dx (six columns of 8 values, column k along x_k) at x = (br, bz, u1r, u1z, u2r,
-    u2z): :func:`four_point_ball`'s first output in forward-mode dual numbers (each quantity carried with its
-    six partial derivatives, real arithmetic, exact to rounding as the complex step, :func:`_derivative`,
-    which the tests keep as its oracle; one pass gives all six columns)."""
-    z6 = 0.0
-    br = (x[0], 1.0, z6, z6, z6, z6, z6)
-    bz = (x[1], z6, 1.0, z6, z6, z6, z6)
-    u1r = (x[2], z6, z6, 1.0, z6, z6, z6)
-    u1z = (x[3], z6, z6, z6, 1.0, z6, z6)
-    u2r = (x[4], z6, z6, z6, z6, 1.0, z6)
-    u2z = (x[5], z6, z6, z6, z6, z6, 1.0)
+@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def _dual_ball(br, bz, u1r, u1z, u2r, u2z, p, w_i, w_o, eps):
+    """:func:`four_point_ball`'s first output, (g_r, g_z, F_1, m_1, F_2, m_2), in dual numbers of any width."""
     s0 = math.sqrt(1.0 - p[COS_NOMINAL] * p[COS_NOMINAL])
     Qi1, Qo1, ci1, si1, co1, so1, wm1, S1 = _dual_pair(u1r, u1z, br, bz, p, w_i, w_o, eps)
-    Qi2, Qo2, ci2, si2, co2, so2, wm2, S2 = _dual_pair(u2r, u2z, br, dsub(dconst(2.0 * p[OUTER_RADIUS] * s0), bz),
-                                                       p, w_i, w_o, eps)
+    bz2 = dsub(dconst(2.0 * p[OUTER_RADIUS] * s0, br), bz)  # B from O_-, in pair -'s frame
+    Qi2, Qo2, ci2, si2, co2, so2, wm2, S2 = _dual_pair(u2r, u2z, br, bz2, p, w_i, w_o, eps)
     P1 = dadd(Qi1, Qo1)
     total = dadd(P1, dadd(Qi2, Qo2))
-    w1 = ddiv(P1, total) if total[0] > 0.0 else dconst(0.5)
-    w2 = dsub(dconst(1.0), w1)
+    w1 = ddiv(P1, total) if total[0] > 0.0 else dconst(0.5, br)
+    w2 = dsub(dconst(1.0, br), w1)
     wm = dadd(dmul(w1, wm1), dmul(w2, wm2))
     Fc = dscale(p[MASS_RADIUS], dmul(wm, wm))
     jd = p[INERTIA] * (w_o - w_i) / p[GAMMA] / p[DIAMETER]
@@ -328,7 +417,7 @@ def ball_jacobian(x, p, w_i, w_o, eps):
     g2z = dadd(dsub(dmul(Qi2, si2), dmul(Qo2, so2)), dmul(f2, dsub(dscale(lo, co2), dscale(li, ci2))))
     on1 = Qi1[0] > 0.0 or eps != 0.0
     on2 = Qi2[0] > 0.0 or eps != 0.0
-    zero = dconst(0.0)
+    zero = dconst(0.0, br)
     arm = li * p[INNER_ARM]
     y0 = dadd(dadd(g1r, g2r), Fc)
     y1 = dsub(g1z, g2z)
@@ -338,9 +427,32 @@ def ball_jacobian(x, p, w_i, w_o, eps):
     y5 = dadd(dmul(Qi2, ci2), dscale(li, dmul(f2, si2))) if on2 else zero
     y6 = dsub(dmul(Qi2, si2), dscale(li, dmul(f2, ci2))) if on2 else zero
     y7 = dscale(arm, f2) if on2 else zero
+    return y0, y1, y2, y3, y4, y5, y6, y7
+
+
+@njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
+def ball_jacobian(x, p, w_i, w_o, eps):
+    """d(g, F_1, m_1, F_2, m_2)/dx (six columns of 8 values, column k along x_k) at x = (br, bz, u1r, u1z, u2r,
+    u2z): :func:`four_point_ball`'s first output in forward-mode dual numbers (each quantity carried with its
+    six partial derivatives, real arithmetic, exact to rounding as the complex step, :func:`_derivative`,
+    which the tests keep as its oracle; one pass gives all six columns)."""
+    z6 = 0.0
+    y0, y1, y2, y3, y4, y5, y6, y7 = _dual_ball((x[0], 1.0, z6, z6, z6, z6, z6), (x[1], z6, 1.0, z6, z6, z6, z6),
+                                                (x[2], z6, z6, 1.0, z6, z6, z6), (x[3], z6, z6, z6, 1.0, z6, z6),
+                                                (x[4], z6, z6, z6, z6, 1.0, z6), (x[5], z6, z6, z6, z6, z6, 1.0),
+                                                p, w_i, w_o, eps)
     return (_column(y0, y1, y2, y3, y4, y5, y6, y7, 1), _column(y0, y1, y2, y3, y4, y5, y6, y7, 2),
             _column(y0, y1, y2, y3, y4, y5, y6, y7, 3), _column(y0, y1, y2, y3, y4, y5, y6, y7, 4),
             _column(y0, y1, y2, y3, y4, y5, y6, y7, 5), _column(y0, y1, y2, y3, y4, y5, y6, y7, 6))
+
+
+@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def _newton_jacobian(br, bz, u, p, w_i, w_o, eps):
+    """dg/dB alone, ((dg_r, dg_z)/dB_r, (dg_r, dg_z)/dB_z), in dual numbers of two derivatives (the settle's
+    iterations; the ring's outputs, unused, fall away when this is compiled inline)."""
+    y0, y1, _, _, _, _, _, _ = _dual_ball((br, 1.0, 0.0), (bz, 0.0, 1.0), (u[2], 0.0, 0.0), (u[3], 0.0, 0.0),
+                                          (u[4], 0.0, 0.0), (u[5], 0.0, 0.0), p, w_i, w_o, eps)
+    return (y0[1], y1[1]), (y0[2], y1[2])
 
 
 @njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
@@ -385,20 +497,18 @@ def settle_four_point(u, p, w_i, w_o, eps, br, bz):
     with the analytic Jacobian (:func:`ball_jacobian`; u: the inner groove centres as its x[2:]). Settled
     within BALL_RTOL of its largest force, or (the lightest contacts) within the rounding floor of its
     position, as high_speed's balls. Returns (br, bz, iterations, settled, and at B the ball's evaluation y,
-    st and its six Jacobian columns J, for the caller to reuse)."""
+    st); the caller takes :func:`ball_jacobian` at B where it needs Kb or the warm start's X."""
     longest = 0.05 * p[DIAMETER]  # the longest step: a twentieth of the ball
     reach = p[INNER_RADIUS] + p[OUTER_RADIUS] + abs(u[2]) + abs(u[3]) + abs(u[4]) + abs(u[5])
     res, scale, y, st = _residual(br, bz, u, p, w_i, w_o, eps)
     for it in range(ITERATIONS + 1):
-        J = ball_jacobian((br, bz, u[2], u[3], u[4], u[5]), p, w_i, w_o, eps)
-        a = J[0]
-        b = J[1]
+        a, b = _newton_jacobian(br, bz, u, p, w_i, w_o, eps)
         floor = 8.0 * 2.220446049250313e-16 * reach * (abs(a[0]) + abs(a[1]) + abs(b[0]) + abs(b[1]))
         if res <= max(BALL_RTOL * scale, floor):
-            return br, bz, it, True, y, st, J
+            return br, bz, it, True, y, st
         det = a[0] * b[1] - b[0] * a[1]
         if it == ITERATIONS or det == 0.0 or not math.isfinite(det):
-            return br, bz, it, False, y, st, J
+            return br, bz, it, False, y, st
         step_r = (b[1] * y[0] - b[0] * y[1]) / det
         step_z = (a[0] * y[1] - a[1] * y[0]) / det
         t = min(1.0, longest / max(math.sqrt(step_r * step_r + step_z * step_z), 1e-300))
@@ -408,11 +518,11 @@ def settle_four_point(u, p, w_i, w_o, eps, br, bz):
                 break
             t *= 0.5
         if not trial < res:  # no step lowers the residual: as settled as float64 gets, or stuck
-            return br, bz, it, res <= max(BALL_RTOL * scale, 4.0 * floor), y, st, J
+            return br, bz, it, res <= max(BALL_RTOL * scale, 4.0 * floor), y, st
         br -= t * step_r
         bz -= t * step_z
         res, scale, y, st = trial, trial_scale, y_t, st_t
-    return br, bz, ITERATIONS, False, y, st, J  # not reached: the last pass returns
+    return br, bz, ITERATIONS, False, y, st  # not reached: the last pass returns
 
 
 @njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
@@ -440,11 +550,11 @@ def canonical_settle(u, p, w_i, w_o, eps):
             done = s
             br, bz = out[0], out[1]
             if done >= 1.0:
-                return out[0], out[1], iterations, True, out[4], out[5], out[6]
+                return out[0], out[1], iterations, True, out[4], out[5]
         else:
             halvings += 1
             if halvings > SPEED_HALVINGS:
-                return first[0], first[1], iterations, False, first[4], first[5], first[6]
+                return first[0], first[1], iterations, False, first[4], first[5]
             step *= 0.5
 
 
@@ -455,9 +565,9 @@ def four_point_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact
     ball's pair + and pair - (schema.ElementSet.four_point). Each ball (column j of pair +, m of pair -) is
     settled at its canonical root (:func:`canonical_settle`), or inside a solve (``warm`` row WARM_LINEARISE),
     where its u moved since its last evaluation, from its last centre (WARM_BR, WARM_BZ where WARM_VALID; its
-    u in WARM_UR, WARM_UZ of both columns), flagged 8; it is never linearised. It adds through each pair's column J = [a; b] (its contact
-    direction's sign on b) f += J^T F + w m and Kb += sum over both pairs' J^T (dF/du) J'. Records as
-    spinning_balls: Q_i and alpha_i of each pair at its column, Q_o and alpha_o after them in a record of
+    u in WARM_UR, WARM_UZ of both columns) moved by the first-order prediction (X in WARM_X*), flagged 8; it is
+    never linearised. It adds through each pair's column J = [a; b] (its contact direction's sign on b)
+    f += J^T F + w m and Kb += sum over both pairs' J^T (dF/du) J'. Records as spinning_balls: Q_i and alpha_i of each pair at its column, Q_o and alpha_o after them in a record of
     2 n_balls, the whole ball in ``states``. Returns (sum of Q_i N, loaded contact pairs, warning bits:
     2 beyond validity, 4 a ball not settled, 8 a ball settled from its last centre: evaluate again for the
     canonical root)."""
@@ -491,17 +601,19 @@ def four_point_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact
                                      + warm[WARM_X00, m_col] * du2r + warm[WARM_X01, m_col] * du2z)
             bz = warm[WARM_BZ, j] - (warm[WARM_X10, j] * du1r + warm[WARM_X11, j] * du1z
                                      + warm[WARM_X10, m_col] * du2r + warm[WARM_X11, m_col] * du2z)
-            br, bz, iterations, settled, y, st, J = settle_four_point(u, p, w_i, w_o, eps, br, bz)
+            br, bz, iterations, settled, y, st = settle_four_point(u, p, w_i, w_o, eps, br, bz)
             if settled:
                 flags |= 8
         if not settled:
-            br, bz, iterations, settled, y, st, J = canonical_settle(u, p, w_i, w_o, eps)
+            br, bz, iterations, settled, y, st = canonical_settle(u, p, w_i, w_o, eps)
         warm[WARM_BR, j] = br
         warm[WARM_BZ, j] = bz
         warm[WARM_UR, j] = u1r
         warm[WARM_UZ, j] = u1z
         warm[WARM_UR, m_col] = u2r
         warm[WARM_UZ, m_col] = u2z
+        x = (br, bz, u1r, u1z, u2r, u2z)
+        J = ball_jacobian(x, p, w_i, w_o, eps) if K is not None or linearise else _NO_JACOBIAN
         det = J[0][0] * J[1][1] - J[1][0] * J[0][1]
         for col, k in ((j, 2), (m_col, 4)):  # X = G_B^-1 G_u: its u1 columns at j, its u2 columns at m
             gr0, gz0, gr1, gz1 = J[k][0], J[k][1], J[k + 1][0], J[k + 1][1]
@@ -509,7 +621,7 @@ def four_point_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact
             warm[WARM_X10, col] = (J[0][0] * gz0 - J[0][1] * gr0) / det
             warm[WARM_X01, col] = (J[1][1] * gr1 - J[1][0] * gz1) / det
             warm[WARM_X11, col] = (J[0][0] * gz1 - J[0][1] * gr1) / det
-        good = settled and math.isfinite(det) and det != 0.0
+        good = settled and (math.isfinite(det) and det != 0.0 or not linearise)
         warm[WARM_VALID, j] = 1.0 if good else 0.0
         if not settled:
             flags |= 4
