@@ -567,8 +567,9 @@ def four_point_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact
     where its u moved since its last evaluation, from its last centre (WARM_BR, WARM_BZ where WARM_VALID; its
     u in WARM_UR, WARM_UZ of both columns) moved by the first-order prediction (X in WARM_X*), flagged 8; it is
     never linearised. It adds through each pair's column J = [a; b] (its contact direction's sign on b)
-    f += J^T F + w m and Kb += sum over both pairs' J^T (dF/du) J'. Records as spinning_balls: Q_i and alpha_i of each pair at its column, Q_o and alpha_o after them in a record of
-    2 n_balls, the whole ball in ``states``. Returns (sum of Q_i N, loaded contact pairs, warning bits:
+    f += J^T F + w m and Kb += sum over both pairs' J^T (dF/du) J'. Records as spinning_balls: Q_i and
+    alpha_i of each pair at its column, Q_o and alpha_o after them in a record of 2 n_balls, the whole ball in
+    ``states``. Returns (sum of Q_i N, loaded contact pairs, warning bits:
     2 beyond validity, 4 a ball not settled, 8 a ball settled from its last centre: evaluate again for the
     canonical root)."""
     n = table.shape[1]
