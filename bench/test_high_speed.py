@@ -31,6 +31,26 @@ def test_solve_at_speed(benchmark, speed):
                                     evaluations_per_case=float(np.mean(out.evaluations)))
 
 
+QJ210 = fb.load_bearing(ROOT / "data" / "bearings" / "QJ210.toml")
+#: Fx, Fy, Fz up to 3 kN each way, no moment (the four-point QJ 210 and the 7014C-DB pair alike).
+POINT_LOADS = np.column_stack([np.random.default_rng(3).uniform(-3000.0, 3000.0, (2000, 3)), np.zeros((2000, 2))])
+
+
+@pytest.mark.parametrize("name", ["QJ210 four-point", "7014C-DB angular contact"])
+@pytest.mark.benchmark(group="solve at 10 000 rpm: four-point QJ 210 against the 7014C-DB pair, same 2000 loads, "
+                             "cold, 1 thread (issue 47: within 3x per ball)")
+def test_four_point_ball_at_speed(benchmark, name):
+    bearing = QJ210 if name.startswith("QJ") else SPINDLE
+    balls = bearing.n_balls // 2 if name.startswith("QJ") else bearing.n_balls  # a four-point ball is two pairs
+    fb.solve_many(bearing, POINT_LOADS[:4], speed=10000.0, threads=1)
+    out = benchmark(fb.solve_many, bearing, POINT_LOADS, speed=10000.0, threads=1)
+    assert out.converged.mean() > 0.99
+    if not benchmark.disabled:
+        us = benchmark.stats.stats.median / len(POINT_LOADS) * 1e6
+        benchmark.extra_info.update(us_per_case=us, us_per_ball=us / balls,
+                                    evaluations_per_case=float(np.mean(out.evaluations)))
+
+
 def speed_map(num_fx=3, num_fz=41):
     """The shipped example's grid, 25 speeds x num_fx radial loads (0-1000 N) x num_fz axial loads (0-2000 N)."""
     doc = tomllib.loads((ROOT / "data" / "examples" / "spindle-7014-speed.toml").read_text())

@@ -12,9 +12,11 @@ omega_m^2), and pair a's races carry w_a M_g,a by its own race control. A ball w
 is exactly the angular contact ball of pair +.
 
 f is the model's; the derivatives (the ball's Newton Jacobian and Kb, condensed over B as the angular contact
-ball's: dF/du = F_u - F_B G_B^-1 G_u) come by complex step, d y/dx = Im y(x + i h)/h with h = 1e-20 mm:
-exact to rounding, with no difference quotient to lose digits, so that the contact, kinematics and weight
-terms need no hand-written derivative. Units: mm, N, N*mm, rad, rad/s.
+ball's: dF/du = F_u - F_B G_B^-1 G_u) come from one forward-mode pass in dual numbers (:func:`ball_jacobian`:
+each quantity carried with its six partial derivatives, real arithmetic), exact to rounding, so that the
+contact, kinematics and weight terms need no hand-written derivative. The complex step it replaced
+(:func:`_derivative`, d y/dx = Im y(x + i h)/h, h = 1e-20 mm) stays as the tests' oracle. Which of several
+roots a ball takes is a property of q alone (:func:`canonical_settle`). Units: mm, N, N*mm, rad, rad/s.
 """
 
 import cmath
@@ -25,18 +27,25 @@ from numba import njit, types
 from numba.extending import overload
 
 from ..config import CACHE, ERROR_MODEL, KERNEL_FASTMATH, REFCOUNT
-from .high_speed import BALL_RTOL, _ball_constants, _inner_centre, kinematics, write_contacts, write_state
+from .high_speed import BALL_RTOL, _ball_constants, _inner_centre, write_contacts, write_state
 from .schema import (AXIAL_OFFSET, COS_NOMINAL, COS_PSI, DEFLECTION_LIMIT, DIAMETER, DIRECTION, GAMMA, INERTIA,
                      INNER_ARM, INNER_CONTROL, INNER_RADIUS, K_INNER, K_OUTER, LAMBDA_INNER, LAMBDA_OUTER,
                      MASS_RADIUS, N_WARM, OUTER_RADIUS, OUTER_SHARE, PITCH_RADIUS, SIN_PSI, WARM_BR, WARM_BZ,
-                     WARM_VALID)
+                     WARM_LINEARISE, WARM_UR, WARM_UZ, WARM_VALID, WARM_X00, WARM_X01, WARM_X10, WARM_X11)
 
+#: The Jacobian's stand-in where neither Kb nor a warm start needs it (an f-only evaluation or a record).
+_NO_JACOBIAN = ((1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0), (0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)) + \
+    ((0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0),) * 4
 #: The complex step (mm): far below any length of the model, far above underflow.
 STEP = 1e-20
 #: Newton iterations a four-point ball may take to settle.
 ITERATIONS = 60
 #: Halvings of a Newton step that does not lower the residual.
 HALVINGS = 40
+#: The canonical root's continuation in speed (:func:`canonical_settle`): its steps, and the halvings of a
+#: step that does not settle allowed in all.
+SPEED_STEPS = 8
+SPEED_HALVINGS = 12
 
 
 def root(x):
@@ -48,6 +57,38 @@ def _root(x):
     if isinstance(x, types.Complex):
         return lambda x: cmath.sqrt(x)
     return lambda x: math.sqrt(x)
+
+
+def quotient(a, b):
+    """a / b of floats or complexes; a complex 0 divisor gives NaN (numba's complex division raises
+    ZeroDivisionError whatever the error model, and nothing may raise in a kernel: issue 47, a one-ball
+    bearing's wild Newton trial put a ball centre on a groove centre)."""
+
+
+@overload(quotient, inline="always")
+def _quotient(a, b):
+    if isinstance(b, types.Complex):
+        def complex_quotient(a, b):
+            if b.real == 0.0 and b.imag == 0.0:
+                return complex(math.nan, math.nan)
+            return a / b
+        return complex_quotient
+    return lambda a, b: a / b
+
+
+@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def _orbit(ci, si, co, so, w_i, w_o, gamma, inner_control):
+    """(omega_m rad/s, S) of high_speed.kinematics (its values, not its gradients), float or complex, with
+    :func:`quotient`'s division."""
+    C = ci * co + si * so
+    den = 1.0 + C
+    if inner_control:
+        b = 1.0 + gamma * co
+        wm = quotient(w_i * (C - gamma * co) + w_o * b, den)
+        return wm, quotient(wm * b * si, den)
+    a = 1.0 - gamma * ci
+    wm = quotient(w_i * a + w_o * (C + gamma * ci), den)
+    return wm, quotient(wm * a * so, den)
 
 
 @njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
@@ -71,17 +112,17 @@ def _pair(ur, uz, br, bz, p, w_i, w_o, eps):
     centre). Returns (Q_i, Q_o, ci, si, co, so, omega_m, S, delta_i, delta_o) as high_speed.ball_state
     takes them (M_g = J (w_o - w_i)/gamma' S)."""
     Lo = root(br * br + bz * bz)
-    co = br / Lo
-    so = bz / Lo
+    co = quotient(br, Lo)
+    so = quotient(bz, Lo)
     vr = ur - br
     vz = uz - bz
     Li = root(vr * vr + vz * vz)
-    ci = vr / Li
-    si = vz / Li
+    ci = quotient(vr, Li)
+    si = quotient(vz, Li)
     d_o, Qo = _contact(Lo, p[OUTER_RADIUS], p[K_OUTER], eps)
     d_i, Qi = _contact(Li, p[INNER_RADIUS], p[K_INNER], eps)
-    k = kinematics(ci, si, co, so, w_i, w_o, p[GAMMA], p[INNER_CONTROL] != 0.0)
-    return Qi, Qo, ci, si, co, so, k[0], k[5], d_i, d_o
+    wm, S = _orbit(ci, si, co, so, w_i, w_o, p[GAMMA], p[INNER_CONTROL] != 0.0)
+    return Qi, Qo, ci, si, co, so, wm, S, d_i, d_o
 
 
 @njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
@@ -89,15 +130,15 @@ def four_point_ball(br, bz, u1r, u1z, u2r, u2z, p, w_i, w_o, eps):
     """A four-point ball at centre B = (br, bz) (mm, pair +'s frame) between the inner groove centres u1 (pair
     +'s frame) and u2 (pair -'s): its residual g (N, pair +'s frame), each pair's ring share (F_r, F_z in N,
     m in N*mm, in the pair's frame; nothing where the pair's inner contact is open) and what a record needs.
-    Float or complex throughout (the complex step); not inlined, so that it compiles twice in all (float,
-    complex), not once per caller."""
+    Float or complex throughout (complex: the tests' complex-step oracle, :func:`_derivative`); not inlined,
+    so that it compiles once per type, not once per caller."""
     s0 = math.sqrt(1.0 - p[COS_NOMINAL] * p[COS_NOMINAL])
     Qi1, Qo1, ci1, si1, co1, so1, wm1, S1, di1, do1 = _pair(u1r, u1z, br, bz, p, w_i, w_o, eps)
     Qi2, Qo2, ci2, si2, co2, so2, wm2, S2, di2, do2 = _pair(u2r, u2z, br, 2.0 * p[OUTER_RADIUS] * s0 - bz, p,
                                                             w_i, w_o, eps)
     P1 = Qi1 + Qo1
     total = P1 + Qi2 + Qo2
-    w1 = P1 / total if total.real > 0.0 else 0.5 + 0.0 * total
+    w1 = quotient(P1, total) if total.real > 0.0 else 0.5 + 0.0 * total
     w2 = 1.0 - w1
     wm = w1 * wm1 + w2 * wm2
     Fc = p[MASS_RADIUS] * wm * wm
@@ -125,7 +166,8 @@ def four_point_ball(br, bz, u1r, u1z, u2r, u2z, p, w_i, w_o, eps):
 
 @njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
 def _derivative(x, k, p, w_i, w_o, eps):
-    """d(g, F_1, m_1, F_2, m_2)/dx_k (8 values) at x = (br, bz, u1r, u1z, u2r, u2z) by complex step."""
+    """d(g, F_1, m_1, F_2, m_2)/dx_k (8 values) at x = (br, bz, u1r, u1z, u2r, u2z) by complex step: the oracle
+    of :func:`ball_jacobian` in the tests (the kernel does not call it)."""
     h = STEP
     y = four_point_ball(complex(x[0], h if k == 0 else 0.0), complex(x[1], h if k == 1 else 0.0),
                         complex(x[2], h if k == 2 else 0.0), complex(x[3], h if k == 3 else 0.0),
@@ -133,6 +175,284 @@ def _derivative(x, k, p, w_i, w_o, eps):
                         p, w_i, w_o, eps)[0]
     return (y[0].imag / h, y[1].imag / h, y[2].imag / h, y[3].imag / h, y[4].imag / h, y[5].imag / h,
             y[6].imag / h, y[7].imag / h)
+
+
+# -- forward-mode dual numbers: (value, its derivatives along 6 inputs (br, bz, u1r, u1z, u2r, u2z) or 2 (br, bz))
+
+def _width(t):
+    """The number of derivatives a dual number of numba type ``t`` carries (its length less one)."""
+    return len(t.types) - 1 if isinstance(t, types.BaseTuple) else -1
+
+
+def dconst(c, like):
+    """The constant c as a dual number of ``like``'s width (its derivatives 0)."""
+
+
+@overload(dconst, inline="always")
+def _dconst(c, like):
+    if _width(like) == 2:
+        def impl2(c, like):
+            return (c, 0.0, 0.0)
+        return impl2
+    if _width(like) == 6:
+        def impl6(c, like):
+            return (c, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+        return impl6
+
+
+def dadd(a, b):
+    """a + b."""
+
+
+@overload(dadd, inline="always")
+def _dadd(a, b):
+    if _width(a) == 2:
+        def impl2(a, b):
+            return (a[0] + b[0], a[1] + b[1], a[2] + b[2])
+        return impl2
+    if _width(a) == 6:
+        def impl6(a, b):
+            return (a[0] + b[0], a[1] + b[1], a[2] + b[2], a[3] + b[3], a[4] + b[4], a[5] + b[5], a[6] + b[6])
+        return impl6
+
+
+def dsub(a, b):
+    """a - b."""
+
+
+@overload(dsub, inline="always")
+def _dsub(a, b):
+    if _width(a) == 2:
+        def impl2(a, b):
+            return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
+        return impl2
+    if _width(a) == 6:
+        def impl6(a, b):
+            return (a[0] - b[0], a[1] - b[1], a[2] - b[2], a[3] - b[3], a[4] - b[4], a[5] - b[5], a[6] - b[6])
+        return impl6
+
+
+def dshift(a, c):
+    """a + c, c a float."""
+
+
+@overload(dshift, inline="always")
+def _dshift(a, c):
+    if _width(a) == 2:
+        def impl2(a, c):
+            return (a[0] + c, a[1], a[2])
+        return impl2
+    if _width(a) == 6:
+        def impl6(a, c):
+            return (a[0] + c, a[1], a[2], a[3], a[4], a[5], a[6])
+        return impl6
+
+
+def dscale(c, a):
+    """c a, c a float."""
+
+
+@overload(dscale, inline="always")
+def _dscale(c, a):
+    if _width(a) == 2:
+        def impl2(c, a):
+            return (c * a[0], c * a[1], c * a[2])
+        return impl2
+    if _width(a) == 6:
+        def impl6(c, a):
+            return (c * a[0], c * a[1], c * a[2], c * a[3], c * a[4], c * a[5], c * a[6])
+        return impl6
+
+
+def dmul(a, b):
+    """a b."""
+
+
+@overload(dmul, inline="always")
+def _dmul(a, b):
+    if _width(a) == 2:
+        def impl2(a, b):
+            return (a[0] * b[0], a[0] * b[1] + a[1] * b[0], a[0] * b[2] + a[2] * b[0])
+        return impl2
+    if _width(a) == 6:
+        def impl6(a, b):
+            return (a[0] * b[0], a[0] * b[1] + a[1] * b[0], a[0] * b[2] + a[2] * b[0], a[0] * b[3] + a[3] * b[0],
+                    a[0] * b[4] + a[4] * b[0], a[0] * b[5] + a[5] * b[0],
+                    a[0] * b[6] + a[6] * b[0])
+        return impl6
+
+
+def ddiv(a, b):
+    """a / b (a zero b: inf or NaN under the numpy error model, never an exception)."""
+
+
+@overload(ddiv, inline="always")
+def _ddiv(a, b):
+    if _width(a) == 2:
+        def impl2(a, b):
+            v = a[0] / b[0]
+            return (v, (a[1] - v * b[1]) / b[0], (a[2] - v * b[2]) / b[0])
+        return impl2
+    if _width(a) == 6:
+        def impl6(a, b):
+            v = a[0] / b[0]
+            return (v, (a[1] - v * b[1]) / b[0], (a[2] - v * b[2]) / b[0], (a[3] - v * b[3]) / b[0],
+                    (a[4] - v * b[4]) / b[0], (a[5] - v * b[5]) / b[0], (a[6] - v * b[6]) / b[0])
+        return impl6
+
+
+def dsqrt(a):
+    """sqrt(a), a > 0."""
+
+
+@overload(dsqrt, inline="always")
+def _dsqrt(a):
+    if _width(a) == 2:
+        def impl2(a):
+            v = math.sqrt(a[0])
+            h = 0.5 / v
+            return (v, h * a[1], h * a[2])
+        return impl2
+    if _width(a) == 6:
+        def impl6(a):
+            v = math.sqrt(a[0])
+            h = 0.5 / v
+            return (v, h * a[1], h * a[2], h * a[3], h * a[4], h * a[5], h * a[6])
+        return impl6
+
+
+def dhertz(delta, k):
+    """k delta^1.5 of a deflection delta >= 0: its derivative 1.5 k delta^0.5 delta' (0 at delta = 0,
+    where the chain rule through a sqrt would give inf times 0)."""
+
+
+@overload(dhertz, inline="always")
+def _dhertz(delta, k):
+    if _width(delta) == 2:
+        def impl2(delta, k):
+            sq = math.sqrt(delta[0])
+            h = 1.5 * k * sq
+            return (k * delta[0] * sq, h * delta[1], h * delta[2])
+        return impl2
+    if _width(delta) == 6:
+        def impl6(delta, k):
+            sq = math.sqrt(delta[0])
+            h = 1.5 * k * sq
+            return (k * delta[0] * sq, h * delta[1], h * delta[2], h * delta[3], h * delta[4], h * delta[5],
+                    h * delta[6])
+        return impl6
+
+
+@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def _dual_contact(L, r0, k, eps):
+    """:func:`_contact` of a dual number L: (deflection, load)."""
+    d = dshift(L, -r0)
+    if eps > 0.0:
+        delta = dscale(0.5, dadd(d, dsqrt(dshift(dmul(d, d), eps * eps))))
+    elif d[0] > 0.0:
+        delta = d
+    else:
+        delta = dconst(0.0, L)
+    return delta, dhertz(delta, k)
+
+
+@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def _dual_orbit(ci, si, co, so, w_i, w_o, gamma, inner_control):
+    """:func:`_orbit` of dual numbers: (omega_m, S)."""
+    C = dadd(dmul(ci, co), dmul(si, so))
+    den = dshift(C, 1.0)
+    if inner_control:
+        b = dshift(dscale(gamma, co), 1.0)
+        wm = ddiv(dadd(dscale(w_i, dsub(C, dscale(gamma, co))), dscale(w_o, b)), den)
+        return wm, ddiv(dmul(dmul(wm, b), si), den)
+    a = dshift(dscale(-gamma, ci), 1.0)
+    wm = ddiv(dadd(dscale(w_i, a), dscale(w_o, dadd(C, dscale(gamma, ci)))), den)
+    return wm, ddiv(dmul(dmul(wm, a), so), den)
+
+
+@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def _dual_pair(ur, uz, br, bz, p, w_i, w_o, eps):
+    """:func:`_pair` of dual numbers: (Q_i, Q_o, ci, si, co, so, omega_m, S)."""
+    Lo = dsqrt(dadd(dmul(br, br), dmul(bz, bz)))
+    co = ddiv(br, Lo)
+    so = ddiv(bz, Lo)
+    vr = dsub(ur, br)
+    vz = dsub(uz, bz)
+    Li = dsqrt(dadd(dmul(vr, vr), dmul(vz, vz)))
+    ci = ddiv(vr, Li)
+    si = ddiv(vz, Li)
+    _, Qo = _dual_contact(Lo, p[OUTER_RADIUS], p[K_OUTER], eps)
+    _, Qi = _dual_contact(Li, p[INNER_RADIUS], p[K_INNER], eps)
+    wm, S = _dual_orbit(ci, si, co, so, w_i, w_o, p[GAMMA], p[INNER_CONTROL] != 0.0)
+    return Qi, Qo, ci, si, co, so, wm, S
+
+
+@njit(inline="always")
+def _column(y0, y1, y2, y3, y4, y5, y6, y7, i):
+    """Component i of the eight dual numbers."""
+    return (y0[i], y1[i], y2[i], y3[i], y4[i], y5[i], y6[i], y7[i])
+
+
+@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def _dual_ball(br, bz, u1r, u1z, u2r, u2z, p, w_i, w_o, eps):
+    """:func:`four_point_ball`'s first output, (g_r, g_z, F_1, m_1, F_2, m_2), in dual numbers of any width."""
+    s0 = math.sqrt(1.0 - p[COS_NOMINAL] * p[COS_NOMINAL])
+    Qi1, Qo1, ci1, si1, co1, so1, wm1, S1 = _dual_pair(u1r, u1z, br, bz, p, w_i, w_o, eps)
+    bz2 = dsub(dconst(2.0 * p[OUTER_RADIUS] * s0, br), bz)  # B from O_-, in pair -'s frame
+    Qi2, Qo2, ci2, si2, co2, so2, wm2, S2 = _dual_pair(u2r, u2z, br, bz2, p, w_i, w_o, eps)
+    P1 = dadd(Qi1, Qo1)
+    total = dadd(P1, dadd(Qi2, Qo2))
+    w1 = ddiv(P1, total) if total[0] > 0.0 else dconst(0.5, br)
+    w2 = dsub(dconst(1.0, br), w1)
+    wm = dadd(dmul(w1, wm1), dmul(w2, wm2))
+    Fc = dscale(p[MASS_RADIUS], dmul(wm, wm))
+    jd = p[INERTIA] * (w_o - w_i) / p[GAMMA] / p[DIAMETER]
+    f1 = dscale(jd, dmul(w1, S1))
+    f2 = dscale(jd, dmul(w2, S2))
+    li = p[LAMBDA_INNER]
+    lo = p[LAMBDA_OUTER]
+    g1r = dadd(dsub(dmul(Qi1, ci1), dmul(Qo1, co1)), dmul(f1, dsub(dscale(li, si1), dscale(lo, so1))))
+    g1z = dadd(dsub(dmul(Qi1, si1), dmul(Qo1, so1)), dmul(f1, dsub(dscale(lo, co1), dscale(li, ci1))))
+    g2r = dadd(dsub(dmul(Qi2, ci2), dmul(Qo2, co2)), dmul(f2, dsub(dscale(li, si2), dscale(lo, so2))))
+    g2z = dadd(dsub(dmul(Qi2, si2), dmul(Qo2, so2)), dmul(f2, dsub(dscale(lo, co2), dscale(li, ci2))))
+    on1 = Qi1[0] > 0.0 or eps != 0.0
+    on2 = Qi2[0] > 0.0 or eps != 0.0
+    zero = dconst(0.0, br)
+    arm = li * p[INNER_ARM]
+    y0 = dadd(dadd(g1r, g2r), Fc)
+    y1 = dsub(g1z, g2z)
+    y2 = dadd(dmul(Qi1, ci1), dscale(li, dmul(f1, si1))) if on1 else zero
+    y3 = dsub(dmul(Qi1, si1), dscale(li, dmul(f1, ci1))) if on1 else zero
+    y4 = dscale(arm, f1) if on1 else zero
+    y5 = dadd(dmul(Qi2, ci2), dscale(li, dmul(f2, si2))) if on2 else zero
+    y6 = dsub(dmul(Qi2, si2), dscale(li, dmul(f2, ci2))) if on2 else zero
+    y7 = dscale(arm, f2) if on2 else zero
+    return y0, y1, y2, y3, y4, y5, y6, y7
+
+
+@njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
+def ball_jacobian(x, p, w_i, w_o, eps):
+    """d(g, F_1, m_1, F_2, m_2)/dx (six columns of 8 values, column k along x_k) at x = (br, bz, u1r, u1z, u2r,
+    u2z): :func:`four_point_ball`'s first output in forward-mode dual numbers (each quantity carried with its
+    six partial derivatives, real arithmetic, exact to rounding as the complex step, :func:`_derivative`,
+    which the tests keep as its oracle; one pass gives all six columns)."""
+    z6 = 0.0
+    y0, y1, y2, y3, y4, y5, y6, y7 = _dual_ball((x[0], 1.0, z6, z6, z6, z6, z6), (x[1], z6, 1.0, z6, z6, z6, z6),
+                                                (x[2], z6, z6, 1.0, z6, z6, z6), (x[3], z6, z6, z6, 1.0, z6, z6),
+                                                (x[4], z6, z6, z6, z6, 1.0, z6), (x[5], z6, z6, z6, z6, z6, 1.0),
+                                                p, w_i, w_o, eps)
+    return (_column(y0, y1, y2, y3, y4, y5, y6, y7, 1), _column(y0, y1, y2, y3, y4, y5, y6, y7, 2),
+            _column(y0, y1, y2, y3, y4, y5, y6, y7, 3), _column(y0, y1, y2, y3, y4, y5, y6, y7, 4),
+            _column(y0, y1, y2, y3, y4, y5, y6, y7, 5), _column(y0, y1, y2, y3, y4, y5, y6, y7, 6))
+
+
+@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def _newton_jacobian(br, bz, u, p, w_i, w_o, eps):
+    """dg/dB alone, ((dg_r, dg_z)/dB_r, (dg_r, dg_z)/dB_z), in dual numbers of two derivatives (the settle's
+    iterations; the ring's outputs, unused, fall away when this is compiled inline)."""
+    y0, y1, _, _, _, _, _, _ = _dual_ball((br, 1.0, 0.0), (bz, 0.0, 1.0), (u[2], 0.0, 0.0), (u[3], 0.0, 0.0),
+                                          (u[4], 0.0, 0.0), (u[5], 0.0, 0.0), p, w_i, w_o, eps)
+    return (y0[1], y1[1]), (y0[2], y1[2])
 
 
 @njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
@@ -174,23 +494,21 @@ def _cold_guess(u, p, w_i, w_o):
 @njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
 def settle_four_point(u, p, w_i, w_o, eps, br, bz):
     """The ball's centre B (mm, pair +'s frame) where its residual vanishes, by damped Newton from (br, bz)
-    with the complex-step Jacobian (u: the inner groove centres as in :func:`_derivative`'s x[2:]). Settled
+    with the analytic Jacobian (:func:`ball_jacobian`; u: the inner groove centres as its x[2:]). Settled
     within BALL_RTOL of its largest force, or (the lightest contacts) within the rounding floor of its
     position, as high_speed's balls. Returns (br, bz, iterations, settled, and at B the ball's evaluation y,
-    st and its Jacobian columns dg/dB_r, dg/dB_z as :func:`_derivative` gives them, for the caller to reuse)."""
+    st); the caller takes :func:`ball_jacobian` at B where it needs Kb or the warm start's X."""
     longest = 0.05 * p[DIAMETER]  # the longest step: a twentieth of the ball
     reach = p[INNER_RADIUS] + p[OUTER_RADIUS] + abs(u[2]) + abs(u[3]) + abs(u[4]) + abs(u[5])
     res, scale, y, st = _residual(br, bz, u, p, w_i, w_o, eps)
     for it in range(ITERATIONS + 1):
-        x = (br, bz, u[2], u[3], u[4], u[5])
-        a = _derivative(x, np.int64(0), p, w_i, w_o, eps)  # a run-time index: one compiled variant
-        b = _derivative(x, np.int64(1), p, w_i, w_o, eps)
+        a, b = _newton_jacobian(br, bz, u, p, w_i, w_o, eps)
         floor = 8.0 * 2.220446049250313e-16 * reach * (abs(a[0]) + abs(a[1]) + abs(b[0]) + abs(b[1]))
         if res <= max(BALL_RTOL * scale, floor):
-            return br, bz, it, True, y, st, a, b
+            return br, bz, it, True, y, st
         det = a[0] * b[1] - b[0] * a[1]
         if it == ITERATIONS or det == 0.0 or not math.isfinite(det):
-            return br, bz, it, False, y, st, a, b
+            return br, bz, it, False, y, st
         step_r = (b[1] * y[0] - b[0] * y[1]) / det
         step_z = (a[0] * y[1] - a[1] * y[0]) / det
         t = min(1.0, longest / max(math.sqrt(step_r * step_r + step_z * step_z), 1e-300))
@@ -200,28 +518,66 @@ def settle_four_point(u, p, w_i, w_o, eps, br, bz):
                 break
             t *= 0.5
         if not trial < res:  # no step lowers the residual: as settled as float64 gets, or stuck
-            return br, bz, it, res <= max(BALL_RTOL * scale, 4.0 * floor), y, st, a, b
+            return br, bz, it, res <= max(BALL_RTOL * scale, 4.0 * floor), y, st
         br -= t * step_r
         bz -= t * step_z
         res, scale, y, st = trial, trial_scale, y_t, st_t
-    return br, bz, ITERATIONS, False, y, st, a, b  # not reached: the last pass returns
+    return br, bz, ITERATIONS, False, y, st  # not reached: the last pass returns
+
+
+@njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
+def canonical_settle(u, p, w_i, w_o, eps):
+    """The ball's canonical root at u (a property of u, so of q, alone; docs/model.md): Newton from the cold
+    guess (:func:`_cold_guess`) and, where that does not settle, the root continued in speed from standing
+    still, at the same u: settled at SPEED_STEPS fractions of (w_i, w_o), each from the last (a fraction that
+    does not settle is halved, at most SPEED_HALVINGS times in all). Near its speed limit the cold guess can
+    sit on a fold of the residual (Newton stops where its Jacobian is singular, not at a root: issue 47);
+    the continuation goes round it. Returns :func:`settle_four_point`'s tuple, its iterations summed."""
+    br, bz = _cold_guess(u, p, w_i, w_o)
+    first = settle_four_point(u, p, w_i, w_o, eps, br, bz)
+    if first[3]:
+        return first
+    iterations = first[2]
+    done = 0.0
+    step = 1.0 / SPEED_STEPS
+    br, bz = _cold_guess(u, p, w_i * step, w_o * step)
+    halvings = 0
+    while True:
+        s = min(1.0, done + step)
+        out = settle_four_point(u, p, w_i * s, w_o * s, eps, br, bz)
+        iterations += out[2]
+        if out[3]:
+            done = s
+            br, bz = out[0], out[1]
+            if done >= 1.0:
+                return out[0], out[1], iterations, True, out[4], out[5]
+        else:
+            halvings += 1
+            if halvings > SPEED_HALVINGS:
+                return first[0], first[1], iterations, False, first[4], first[5]
+            step *= 0.5
 
 
 @njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
 def four_point_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact_angle, states, warm, pairs):
     """Add the four-point balls' share to f (5) and, unless ``K`` is None, Kb (5x5), in place; the arguments
     as high_speed.spinning_balls', which has written the other balls' share; ``pairs`` (2, n) the columns of each
-    ball's pair + and pair - (schema.ElementSet.four_point). Each ball (column j of pair +, m of pair -) starts from its centre in ``warm`` (WARM_BR, WARM_BZ where WARM_VALID) or a cold
-    guess, is settled (never linearised), and adds through each pair's column J = [a; b] (its contact
-    direction's sign on b) f += J^T F + w m and Kb += sum over both pairs' J^T (dF/du) J'. Records as
-    spinning_balls: Q_i and alpha_i of each pair at its column, Q_o and alpha_o after them in a record of
-    2 n_balls, the whole ball in ``states``. Returns (sum of Q_i N, loaded contact pairs, warning bits:
-    2 beyond validity, 4 a ball not settled)."""
+    ball's pair + and pair - (schema.ElementSet.four_point). Each ball (column j of pair +, m of pair -) is
+    settled at its canonical root (:func:`canonical_settle`), or inside a solve (``warm`` row WARM_LINEARISE),
+    where its u moved since its last evaluation, from its last centre (WARM_BR, WARM_BZ where WARM_VALID; its
+    u in WARM_UR, WARM_UZ of both columns) moved by the first-order prediction (X in WARM_X*), flagged 8; it is
+    never linearised. It adds through each pair's column J = [a; b] (its contact direction's sign on b)
+    f += J^T F + w m and Kb += sum over both pairs' J^T (dF/du) J'. Records as spinning_balls: Q_i and
+    alpha_i of each pair at its column, Q_o and alpha_o after them in a record of 2 n_balls, the whole ball in
+    ``states``. Returns (sum of Q_i N, loaded contact pairs, warning bits:
+    2 beyond validity, 4 a ball not settled, 8 a ball settled from its last centre: evaluate again for the
+    canonical root)."""
     n = table.shape[1]
     total = 0.0
     n_loaded = 0
     flags = 0
     scratch = warm.reshape(warm.size)[N_WARM * n:]  # 6 x 4 condensed stiffness, after the ball pass's use
+    linearise = n > 0 and states is None and warm[WARM_LINEARISE, 0] != 0.0
     for b in range(pairs.shape[1]):
         j = int(pairs[0, b])
         m_col = int(pairs[1, b])
@@ -229,17 +585,45 @@ def four_point_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact
         u1r, u1z = _inner_centre(q, table, j)
         u2r, u2z = _inner_centre(q, table, m_col)
         u = (0.0, 0.0, u1r, u1z, u2r, u2z)
-        if warm[WARM_VALID, j] != 0.0:
-            br, bz = warm[WARM_BR, j], warm[WARM_BZ, j]
-        else:
-            br, bz = _cold_guess(u, p, w_i, w_o)
-        br, bz, iterations, settled, y, st, dB0, dB1 = settle_four_point(u, p, w_i, w_o, eps, br, bz)
-        if not settled and warm[WARM_VALID, j] != 0.0:  # a stale warm start: once more from the cold guess
-            br, bz = _cold_guess(u, p, w_i, w_o)
-            br, bz, iterations, settled, y, st, dB0, dB1 = settle_four_point(u, p, w_i, w_o, eps, br, bz)
+        # inside a solve a ball moved since its last evaluation starts from its last centre and is flagged
+        # BALL_LINEARISED (bit 8): the solver evaluates at its answer's q again before it converges, and that
+        # evaluation (the same u, bit for bit) and every other one take the canonical root, a property of q
+        # alone (:func:`canonical_settle`), so that stiffness(q), ball_contacts(q) and the records repeat it
+        settled = False
+        if (linearise and warm[WARM_VALID, j] != 0.0
+                and not (warm[WARM_UR, j] == u1r and warm[WARM_UZ, j] == u1z
+                         and warm[WARM_UR, m_col] == u2r and warm[WARM_UZ, m_col] == u2z)):
+            # the first-order prediction B - X (u - u_last), X = G_B^-1 G_u (2 x 4) of the last settle
+            du1r = u1r - warm[WARM_UR, j]
+            du1z = u1z - warm[WARM_UZ, j]
+            du2r = u2r - warm[WARM_UR, m_col]
+            du2z = u2z - warm[WARM_UZ, m_col]
+            br = warm[WARM_BR, j] - (warm[WARM_X00, j] * du1r + warm[WARM_X01, j] * du1z
+                                     + warm[WARM_X00, m_col] * du2r + warm[WARM_X01, m_col] * du2z)
+            bz = warm[WARM_BZ, j] - (warm[WARM_X10, j] * du1r + warm[WARM_X11, j] * du1z
+                                     + warm[WARM_X10, m_col] * du2r + warm[WARM_X11, m_col] * du2z)
+            br, bz, iterations, settled, y, st = settle_four_point(u, p, w_i, w_o, eps, br, bz)
+            if settled:
+                flags |= 8
+        if not settled:
+            br, bz, iterations, settled, y, st = canonical_settle(u, p, w_i, w_o, eps)
         warm[WARM_BR, j] = br
         warm[WARM_BZ, j] = bz
-        warm[WARM_VALID, j] = 1.0 if settled else 0.0
+        warm[WARM_UR, j] = u1r
+        warm[WARM_UZ, j] = u1z
+        warm[WARM_UR, m_col] = u2r
+        warm[WARM_UZ, m_col] = u2z
+        x = (br, bz, u1r, u1z, u2r, u2z)
+        J = ball_jacobian(x, p, w_i, w_o, eps) if K is not None or linearise else _NO_JACOBIAN
+        det = J[0][0] * J[1][1] - J[1][0] * J[0][1]
+        for col, k in ((j, 2), (m_col, 4)):  # X = G_B^-1 G_u: its u1 columns at j, its u2 columns at m
+            gr0, gz0, gr1, gz1 = J[k][0], J[k][1], J[k + 1][0], J[k + 1][1]
+            warm[WARM_X00, col] = (J[1][1] * gr0 - J[1][0] * gz0) / det
+            warm[WARM_X10, col] = (J[0][0] * gz0 - J[0][1] * gr0) / det
+            warm[WARM_X01, col] = (J[1][1] * gr1 - J[1][0] * gz1) / det
+            warm[WARM_X11, col] = (J[0][0] * gz1 - J[0][1] * gr1) / det
+        good = settled and (math.isfinite(det) and det != 0.0 or not linearise)
+        warm[WARM_VALID, j] = 1.0 if good else 0.0
         if not settled:
             flags |= 4
         Qi1, Qo1, Qi2, Qo2, ci1, si1, co1, so1, ci2, si2, co2, so2, Fc, Mg, wm, di1, do1, di2, do2 = st
@@ -271,7 +655,7 @@ def four_point_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact
             write_state(states, j, Qi1, Qo1, ci1, si1, co1, so1, Fc, Mg, wm, iterations, residual)
             write_state(states, m_col, Qi2, Qo2, ci2, si2, co2, so2, Fc, Mg, wm, iterations, residual)
         if K is not None:
-            _add_stiffness(K, scratch, (br, bz, u1r, u1z, u2r, u2z), p, w_i, w_o, eps, c, s, z, R, s1, s2, dB0, dB1)
+            _add_stiffness(K, scratch, J, c, s, z, R, s1, s2)
     return total, n_loaded, flags
 
 
@@ -282,13 +666,15 @@ def _dot(scratch, row, du):
 
 
 @njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
-def _add_stiffness(K, scratch, x, p, w_i, w_o, eps, c, s, z, R, s1, s2, dB0, dB1):
+def _add_stiffness(K, scratch, J, c, s, z, R, s1, s2):
     """Kb += one four-point ball's share: the condensed dY/du = Y_u - Y_B G_B^-1 G_u (Y = (F_1, m_1, F_2, m_2),
-    u = (u1, u2); 6 x 4 in ``scratch``) mapped through both pairs' columns; dB0, dB1 the derivatives along
-    B_r, B_z at x (the settle's last Jacobian, at this very B)."""
+    u = (u1, u2); 6 x 4 in ``scratch``) mapped through both pairs' columns; J the six columns of
+    :func:`ball_jacobian` at the ball's B (the settle's last, at this very B)."""
+    dB0 = J[0]
+    dB1 = J[1]
     det = dB0[0] * dB1[1] - dB1[0] * dB0[1]
     for m in range(4):
-        du = _derivative(x, 2 + m, p, w_i, w_o, eps)
+        du = J[2 + m]
         x0 = (dB1[1] * du[0] - dB1[0] * du[1]) / det  # X = G_B^-1 G_u, column m
         x1 = (dB0[0] * du[1] - dB0[1] * du[0]) / det
         for i in range(6):

@@ -58,6 +58,12 @@ SolveOutcome = namedtuple("SolveOutcome", "status iterations residual evaluation
 WORK_ROWS = 34
 _KS, _B, _KT, _LU = 0, 5, 10, 15  # 5x5 blocks: scaled Kb, Broyden matrix, trial Kb, factor
 _G, _STEP, _QT, _FT, _GT, _RHS, _D, _PERM, _BEST, _FLOOR = range(20, 30)
+_TARGET, _SAVED, _KEPT = 30, 31, 32  # the load continuation's scaled load, its last solution, the fallback's q
+
+#: The load continuation at speed (:func:`_load_continuation`): doublings of the load tried for a first
+#: solution, and the ratio of a step back towards the target past which it gives up.
+LOAD_DOUBLINGS = 12
+LOAD_RATIO_LIMIT = 0.99
 
 _ARMIJO = 1e-4
 _HALVINGS = 30
@@ -529,6 +535,60 @@ def _smoothing_continuation(f_target, q, f, K, balls, settings, tol, arm, reach,
 
 
 @njit(cache=CACHE, fastmath=FASTMATH, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
+def _load_continuation(f_target, q, f, K, balls, settings, tol, arm, reach, D, work, ball_load, contact_angle):
+    """The last fallback at speed: the load doubled until a cold solve converges, then taken back to the
+    target, each step from the last solution (a step that fails is shortened: its ratio square-rooted,
+    until LOAD_RATIO_LIMIT). Light loads at 70 000 rpm and above need it (issue 47): the balls ride the
+    outer arcs under their centrifugal force, one to three carry the ring, Kb is nearly singular along a
+    tilt, and Newton from a cold start stalls where from a heavier load's solution it converges. Fixed
+    degrees of freedom keep their displacements. Returns (status, iterations, residual max-norm,
+    evaluations, total load, warning bits) as :func:`_descend`."""
+    target = work[_TARGET]
+    saved = work[_SAVED]
+    iterations = 0
+    evals = 0
+    s = 1.0
+    status = STALLED
+    rmax = math.inf
+    total = 0.0
+    warn = 0
+    for _ in range(LOAD_DOUBLINGS):
+        s *= 2.0
+        for i in range(5):
+            target[i] = s * f_target[i] if D[i] != 0.0 else f_target[i]
+        ev, total, n_loaded, warn = _cold_start(target, q, f, K, balls, D, settings.max_step)
+        status, it, rmax, ev2, total, warn, _ = _descend(target, q, f, K, total, n_loaded, warn, balls, settings,
+                                                         s * tol, arm, reach, D, work, ball_load, contact_angle)
+        iterations += it
+        evals += ev + ev2
+        if status == CONVERGED:
+            break
+    if status != CONVERGED:
+        return status, iterations, rmax, evals, total, warn
+    ratio = 0.5
+    while s > 1.0:
+        for i in range(5):
+            saved[i] = q[i]
+        step = max(1.0, s * ratio)
+        for i in range(5):
+            target[i] = step * f_target[i] if D[i] != 0.0 else f_target[i]
+        total, n_loaded, warn = ball_loop(q, balls, f, K, None, None)
+        status, it, rmax, ev, total, warn, _ = _descend(target, q, f, K, total, n_loaded, warn, balls, settings,
+                                                        step * tol, arm, reach, D, work, ball_load, contact_angle)
+        iterations += it
+        evals += ev + 1
+        if status == CONVERGED:
+            s = step
+        else:
+            for i in range(5):
+                q[i] = saved[i]
+            ratio = math.sqrt(ratio)
+            if ratio > LOAD_RATIO_LIMIT:
+                return status, iterations, rmax, evals, total, warn
+    return status, iterations, rmax, evals, total, warn
+
+
+@njit(cache=CACHE, fastmath=FASTMATH, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
 def _still_start(f_target, q, f, K, balls, settings, tol, arm, reach, D, work, ball_load, contact_angle):
     """q solving the load to ``tol`` with the balls standing still (omega 0: the quasi-static loop).
     Returns (evaluations, iterations, whether q is a start worth taking). The record arrays are only
@@ -702,6 +762,21 @@ def solve_case(f_target, q, f, K, balls, settings, warm, work, ball_load, contac
                                                                      reach, D, work)
         iterations += it
         evals += ev
+    if status != CONVERGED and balls.omega != 0.0 and scale > 0.0:
+        kept = work[_KEPT]
+        for i in range(5):
+            kept[i] = q[i]
+        forget_warm(spin)
+        st, it, r, ev, t, w = _load_continuation(f_target, q, f, K, balls, settings, tol, arm, reach, D, work,
+                                                 ball_load, contact_angle)
+        iterations += it
+        evals += ev
+        if st == CONVERGED:
+            status, rmax, total, warn = st, r, t, w
+            recorded = False
+        else:  # the fallback's answer stands (evaluated again below)
+            for i in range(5):
+                q[i] = kept[i]
     floor = work[_FLOOR, 0]
     newton_done = settings.method == NEWTON and status == CONVERGED
     if not newton_done or (ball_load is not None and not recorded):
