@@ -227,7 +227,7 @@ def speed_cases(bearing: Bearing, speed, n: int) -> tuple[tuple, np.ndarray]:
         return bearing.ball_set(), np.zeros(0)
     fastest = int(np.argmax(speeds))
     check_speed_model(bearing, speeds[fastest], "speed" if values.ndim == 0 else f"speed[{fastest}]")
-    return bearing.ball_set(speed=0.0), speeds * (np.pi / 30.0)
+    return bearing.ball_set(speed=0.0), speeds * np.pi / 30.0  # as rpm_to_rad_s rounds it: solve_many and stiffness bit for bit
 
 
 def _check_finite_result(f, K, name: str) -> None:

@@ -162,7 +162,7 @@ def compute_block(bearing: Bearing, given_load: bool, line_length: int, settings
     rpm = inputs[:, 5] if inputs.shape[1] == 6 else None
     if inputs.shape[1] == 6:  # the shaft speed (rpm) per case
         if spinning:
-            balls, speeds = bearing.ball_set(speed=0.0), inputs[:, 5] * (np.pi / 30.0)
+            balls, speeds = bearing.ball_set(speed=0.0), inputs[:, 5] * np.pi / 30.0
         inputs = np.ascontiguousarray(inputs[:, :5])
     ball_row = bearing.element_rows
     segments = segment_starts(first, first + inputs.shape[0], line_length)
