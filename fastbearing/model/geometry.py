@@ -347,7 +347,7 @@ def check_boundary_dimensions(body, element_diameter: float) -> None:
     """Validate ``body``'s optional boundary dimensions (ISO 15 / ISO 355: ``bore`` d, ``outer_diameter`` D,
     ``width`` B, all mm) in place against its rolling elements: d < dm - Dw (the inner raceway Di) and
     D > dm + Dw (the outer raceway De), so that each ring has a section; width > 0. Needed for fits
-    (docs/mounting.md); absent (None) they change nothing."""
+    (issue 44, docs/geometry.md); absent (None) they change nothing."""
     v = validate
     dm = body.pitch_diameter
     for name in ("bore", "outer_diameter", "width"):
