@@ -134,7 +134,8 @@ def build_parser() -> argparse.ArgumentParser:
                    "fault_frequency_conditions)")
     b.add_argument("--speed", type=float, metavar="RPM", help="shaft speed in rpm (> 0): add the fault frequencies "
                    "(Hz, and orders of the shaft frequency rpm/60); needs [bearing.geometry]; the ring that turns is "
-                   "the geometry's rotating key (default inner)")
+                   "the geometry's rotating key (default inner); with [bearing.mounting], the clearance budget at this "
+                   "speed (mm, N/mm^2, deg C; default 0 rpm)")
     b.add_argument("--load", metavar="Fx,Fy,Fz,Mx,My", help="with --speed: use the loaded contact angle at this load "
                    "on the inner ring (N, N, N, N*mm, N*mm; the mean over the loaded balls of a quasi-static solve) "
                    "instead of the nominal one")
@@ -587,7 +588,7 @@ def _bearing_command(args) -> int:
     speed = None if args.speed is None else number(args.speed, "--speed", low=0, low_open=True, units="rpm")
     load = None if args.load is None else _five_numbers(args.load, "--load")
     bearing = load_bearing(args.file)
-    rep = bearing_report(bearing)
+    rep = bearing_report(bearing, speed)
     try:
         faults = None if speed is None else fault_frequency_report(bearing, speed, load)
     except ValueError as err:  # the API's "load", as the command line spells it

@@ -182,10 +182,14 @@ def _mount(mounting: Mounting, geometry, speed: float, warn: bool = True):
     """The MountedRow of the bearing's rows (all rows share one geometry) at ``speed`` rpm."""
     ball = geometry.ball_material if geometry.element == "ball" else geometry.roller_material
     ring = geometry.ring_material
-    # fastbearing.Material has E and nu only: the rings and balls take steel's density and expansion
-    ring_m = BodyMaterial("ring", ring.youngs_modulus, ring.poisson_ratio, 7850.0, 12.5e-6)
-    ball_m = BodyMaterial("ball", ball.youngs_modulus, ball.poisson_ratio,
-                          getattr(geometry, "ball_density", None) or 7850.0, 12.5e-6)
+    # fastbearing.Material has no thermal expansion: bearing steel's 12.5e-6 /K (NSK E1102e eq. 9.6), silicon
+    # nitride's 3.2e-6 /K (a typical hot-pressed Si3N4 value, as the makers of hybrid bearings list it)
+    def body(m, density):
+        alpha = 3.2e-6 if "nitride" in m.name else 12.5e-6
+        return BodyMaterial(m.name, m.youngs_modulus, m.poisson_ratio, density or m.density, alpha)
+
+    ring_m = body(ring, None)
+    ball_m = body(ball, getattr(geometry, "ball_density", None))
     return mount_row(bore=geometry.bore, outer_diameter=geometry.outer_diameter,
                      pitch_diameter=geometry.pitch_diameter, element_diameter=_element_diameter(geometry),
                      unmounted_diametral_clearance=geometry.diametral_clearance,
