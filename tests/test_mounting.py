@@ -263,3 +263,35 @@ def test_hoop_stress_warning_is_one_cli_line(tmp_path):
     run = cli_run("bearing", path)
     warnings = [line for line in run.stderr.splitlines() if "hoop stress" in line]
     assert len(warnings) == 1 and warnings[0].startswith("fastbearing: warning: ")
+
+
+# -- load maps and passage tables: one speed, the operating bearing -------------------------------
+MAP = """
+[loadmap]
+given = "load"
+Fx = { start = 500.0, stop = 2000.0, num = 3 }
+Fz = [0.0, 100.0]
+"""
+
+
+def test_loadmap_of_a_mounted_bearing_runs_its_operating_bearing(tmp_path):
+    import h5py
+
+    path = tmp_path / "map.toml"
+    path.write_text(TOML_6205 + MAP + "speed = 3000.0\n")
+    out = fb.loadmap(path, tmp_path / "map.h5", progress=False)
+    op, budget = operating_bearing(bearing_6205(), 3000.0)
+    with h5py.File(out, "r") as fh:
+        assert list(fh.attrs["operating_diametral_clearance_mm"]) == [budget["rows"][0]["operating_diametral_clearance"]]
+        assert fh.attrs["operating_speed_rpm"] == 3000.0
+        K = fh["K"][()]
+    r = fb.solve(op, [2000.0, 0, 100.0, 0, 0], speed=3000.0)
+    assert np.allclose(K[-1, -1], r.K, rtol=1e-9, atol=1e-6)
+
+
+def test_loadmap_with_a_speed_axis_on_a_mounted_bearing_is_refused(tmp_path):
+    path = tmp_path / "map.toml"
+    path.write_text(TOML_6205 + MAP + "speed = [0.0, 3000.0]\n")
+    with pytest.raises(ValueError, match="loadmap.speed: several speeds on a bearing with \\[bearing.mounting\\] "
+                                         "are not supported yet"):
+        fb.loadmap(path, tmp_path / "map.h5", progress=False)

@@ -326,3 +326,13 @@ def refuse_speed_cases(bearing, speeds, what: str = "speed") -> float:
         raise ValueError(f"{what}: several speeds on a bearing with [bearing.mounting] are not supported yet (the "
                          "operating clearance varies with speed); run one speed per run")
     return float(values[0]) if values.size else 0.0
+
+
+def operating_attributes(budget: dict) -> dict:
+    """A mounted bearing's operating point as file attributes (units in the names): per row the operating and
+    unmounted diametral clearance and the operating axial preload (mm), the speed (rpm) and the run line."""
+    rows = budget["rows"]
+    return {"operating_diametral_clearance_mm": [r["operating_diametral_clearance"] for r in rows],
+            "unmounted_diametral_clearance_mm": [r["unmounted_diametral_clearance"] for r in rows],
+            "operating_axial_preload_mm": [r["operating_axial_preload"] for r in rows],
+            "operating_speed_rpm": budget["speed"], "operating_note": budget["line"]}
