@@ -176,7 +176,7 @@ def mounting_text(budget: dict) -> list[str]:
     def rng(r, key):
         return f" (range {um(r[key][0])} to {um(r[key][1])})" if key in r else ""
 
-    lines = [f"mounting at {budget['speed']:g} rpm: {budget['line']}"]
+    lines = [f"mounting: {budget['line']}" + ("" if budget["speed"] > 0 else " at rest (--speed RPM: running)")]
     r = budget["rows"][0]
     if "shaft_fit_pressure" in r:
         fits = [f"shaft {budget['shaft_fit']}" if budget.get("shaft_fit") else "",
