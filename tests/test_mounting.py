@@ -295,3 +295,44 @@ def test_loadmap_with_a_speed_axis_on_a_mounted_bearing_is_refused(tmp_path):
     with pytest.raises(ValueError, match="loadmap.speed: several speeds on a bearing with \\[bearing.mounting\\] "
                                          "are not supported yet"):
         fb.loadmap(path, tmp_path / "map.h5", progress=False)
+
+
+def test_passage_table_of_a_mounted_bearing_records_its_operating_clearance(tmp_path):
+    import h5py
+
+    path = tmp_path / "p.toml"
+    path.write_text(TOML_6205 + '[passage]\ngiven = "displacement"\npoints = [[0.02, 0.0, 0.0, 0.0, 0.0]]\n')
+    out = fb.passage(path, tmp_path / "p.h5")
+    _, budget = operating_bearing(bearing_6205(), 0.0)
+    with h5py.File(out, "r") as fh:
+        assert fh.attrs["operating_note"] == budget["line"]
+        assert list(fh.attrs["operating_diametral_clearance_mm"]) == [budget["rows"][0]["operating_diametral_clearance"]]
+
+
+def test_a_shaft_carries_a_mounted_bearing_at_its_operating_clearance(tmp_path):
+    from fastbearing.analysis import shaft as sh
+
+    (tmp_path / "row.toml").write_text(TOML_6205)
+    (tmp_path / "plain.toml").write_text(TOML_6205.split("[bearing.mounting]")[0])
+    op, budget = operating_bearing(bearing_6205(), 0.0)
+    (tmp_path / "twin.toml").write_text(TOML_6205.split("[bearing.mounting]")[0].replace(
+        'diametral_clearance = "CN"', f'diametral_clearance = {budget["rows"][0]["operating_diametral_clearance"]!r}'))
+    K = {}
+    for name in ("row", "twin", "plain"):
+        path = tmp_path / f"shaft-{name}.toml"
+        path.write_text('[shaft]\nreference = 0.0\n'
+                        f'[[shaft.bearings]]\nposition = -40.0\nbearing = "{name}.toml"\n'
+                        f'[[shaft.bearings]]\nposition = 40.0\nbearing = "{name}.toml"\n'
+                        '[[shaft.loads]]\nposition = 0.0\nforce = [2000.0, 0.0, 0.0]\n')
+        K[name] = sh.solve_shaft(sh.read_shaft(path)).K_system
+    assert np.array_equal(K["row"], K["twin"])
+    assert not np.array_equal(K["row"], K["plain"])
+
+
+def test_tapered_pair_preload_follows_the_shaft_temperature():
+    table = read_toml(ROOT / "data/bearings/30206-TDO.toml")["bearing"]
+    cold = bearing_from_table({**table, "mounting": {"shaft_interference": -0.05}})
+    warm = bearing_from_table({**table, "mounting": {"shaft_interference": -0.05, "shaft_temperature": 40.0}})
+    d_cold = [r.axial_preload for r in operating_bearing(cold, 0.0)[0].rows]
+    d_warm = [r.axial_preload for r in operating_bearing(warm, 0.0)[0].rows]
+    assert all(w < c for w, c in zip(d_warm, d_cold))  # TDO is back to back: a warmer shaft unloads it
