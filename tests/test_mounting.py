@@ -336,3 +336,9 @@ def test_tapered_pair_preload_follows_the_shaft_temperature():
     d_cold = [r.axial_preload for r in operating_bearing(cold, 0.0)[0].rows]
     d_warm = [r.axial_preload for r in operating_bearing(warm, 0.0)[0].rows]
     assert all(w < c for w, c in zip(d_warm, d_cold))  # TDO is back to back: a warmer shaft unloads it
+
+
+def test_rows_changed_after_loading_are_refused_not_ignored():
+    bearing = bearing_6205().with_rows(radial_clearance=0.002)
+    with pytest.raises(ValueError, match="bearing.mounting needs every row's radial_clearance"):
+        fb.solve(bearing, [1000.0, 0, 0, 0, 0])

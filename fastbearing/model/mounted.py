@@ -114,7 +114,7 @@ def clearance_spec(value, geometry_table: dict, where: str):
 
 def _check_temperature(table, key, where):
     if key in table:
-        return validate.number(table[key], f"{where}.{key}", low=ABSOLUTE_ZERO, units="deg C (>= -273.15)")
+        return validate.number(table[key], f"{where}.{key}", low=ABSOLUTE_ZERO, units="deg C (absolute zero)")
     return None
 
 
@@ -233,6 +233,11 @@ def operating_bearing(bearing, speed: float = 0.0):
         line = f"clearance {1000.0 * Pd:.4g} um, the mean of {_range_text(mounting)}"
         return replace(bearing, mounting=None), {"speed": speed, "rows": rows, "materials": {}, "notes": [],
                                                   "line": line}
+    if any(r.radial_clearance != 0.5 * geometry.diametral_clearance for r in bearing.rows):
+        # the budget starts from the geometry's clearance: rows changed since (with_rows) would be ignored
+        raise FieldError("bearing.mounting", "needs every row's radial_clearance to be the geometry's "
+                         f"diametral_clearance / 2 = {0.5 * geometry.diametral_clearance:.6g} mm (change the geometry's "
+                         "diametral_clearance instead of the rows')", show_value=False)
     mounted = _mount(mounting, geometry, speed)
     Pd_op = mounted.operating_diametral_clearance
     T0 = mounting.assembly_temperature
