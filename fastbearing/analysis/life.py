@@ -627,7 +627,8 @@ def life(bearing, load, q, settings: LifeSettings | None = None) -> LifeResult:
     """Rating life of ``bearing`` under ``load`` (Fx, Fy, Fz, Mx, My; N, N*mm) with the solved
     displacement ``q`` (mm, rad): ISO 281 L10 of the bearing as a unit (radial load hypot(Fx, Fy), axial
     |Fz|; moments are not in ISO 281's P) and ISO/TS 16281 L10r from the ball loads at q (moments,
-    clearance, preload and every arrangement included)."""
+    clearance, preload and every arrangement included). A bearing with [bearing.mounting] is taken as it runs
+    at the speed ``q`` was solved at (``settings.speed`` with ``balls_at_speed``, else 0 rpm), as solve took it."""
     settings = settings or LifeSettings()
     # a mounted bearing: the operating one at the speed q was solved at (settings.speed with balls_at_speed)
     bearing = operating(bearing, settings.speed if settings.balls_at_speed and settings.speed else 0.0)
