@@ -32,6 +32,7 @@ _PUBLIC = {
     **dict.fromkeys(("bearing_report", "bearing_report_text", "fault_frequency_report"), "report.bearing_report"),
     **dict.fromkeys(("fault_frequencies", "fault_orders"), "analysis.faults"),
     "passage": "jobs.passage",
+    "operating_bearing": "model.mounted",
 }
 
 try:

@@ -19,6 +19,7 @@ from . import status as st
 
 from . import validate
 from .model.bearing import Bearing, check_speed, check_speed_model
+from .model.mounted import operating, refuse_speed_cases
 from .dofs import DISPLACEMENT_NAMES, DISPLACEMENT_UNITS, LOAD_NAMES, LOAD_UNITS  # noqa: F401 (public names)
 from .engine.kernel import ball_loop
 from .config import METHODS, NEWTON
@@ -92,6 +93,17 @@ def _check_bearing(bearing) -> Bearing:
     if not isinstance(bearing, Bearing):
         raise ValueError(f"bearing must be a fastbearing.Bearing, got {type(bearing).__name__}")
     return bearing
+
+
+def _operating(bearing, speed, many: bool = False) -> Bearing:
+    """The bearing as it runs: a bearing with [bearing.mounting] becomes its operating bearing at ``speed``
+    (rpm; fastbearing.model.mounted.operating_bearing); any other bearing is returned as it is."""
+    bearing = _check_bearing(bearing)
+    if bearing.mounting is None:
+        return bearing
+    if many:
+        speed = refuse_speed_cases(bearing, speed)
+    return operating(bearing, check_speed(speed))
 
 
 def as_cases(values, name: str, units: str) -> np.ndarray:
@@ -191,7 +203,7 @@ def direct(bearing: Bearing, q, speed=0.0) -> tuple[np.ndarray, np.ndarray, int]
     with the warning bits (contact_reversed, beyond_validity), or BALL_EQUILIBRIUM where at speed some
     ball's own equilibrium did not settle (as a displacement-given map flags it). ValueError for a bad q or
     an f or Kb that overflows float64."""
-    bearing = _check_bearing(bearing)
+    bearing = _operating(bearing, speed)
     q = _as_vector(q, "q", "dx, dy, dz in mm; bx, by in rad")
     balls = speed_ball_set(bearing, speed)
     f = np.empty(5)
@@ -244,7 +256,7 @@ def ball_loads(bearing: Bearing, q, speed=0.0) -> tuple[np.ndarray, np.ndarray]:
 
     Balls are ordered row by row, each row from its first ball.
     """
-    bearing = _check_bearing(bearing)
+    bearing = _operating(bearing, speed)
     q = _as_vector(q, "q", "dx, dy, dz in mm; bx, by in rad")
     Q = np.empty(bearing.n_elements)
     alpha = np.empty(bearing.n_elements)
@@ -303,7 +315,7 @@ def solve(bearing: Bearing, f, q0=None, method: str = "newton", rtol=None, max_i
         nonfinite_result ..., see :mod:`fastbearing.status`), with
         ``result.converged`` False.
     """
-    bearing = _check_bearing(bearing)
+    bearing = _operating(bearing, speed)
     load = _as_vector(f, "f", "Fx, Fy, Fz in N; Mx, My in N*mm")
     held = boundary.parse_fixed(fixed, bearing=bearing)
     f_target = boundary.targets(load, held)
@@ -410,7 +422,7 @@ def solve_many(bearing: Bearing, f, q0=None, method: str = "newton", rtol=None, 
         in ``status``, never raised; bad input raises ValueError as in
         :func:`solve` (and when ``q0`` has another number of cases than ``f``).
     """
-    bearing = _check_bearing(bearing)
+    bearing = _operating(bearing, speed, many=True)
     device = validate.choice(device, "device", DEVICES)
     loads = as_cases(f, "f", "Fx, Fy, Fz in N; Mx, My in N*mm")
     n = loads.shape[0]
@@ -442,7 +454,7 @@ def solve_many(bearing: Bearing, f, q0=None, method: str = "newton", rtol=None, 
 def stiffness_many(bearing: Bearing, q, threads=None, speed=0.0) -> tuple[np.ndarray, np.ndarray]:
     """f (N, 5) and Kb (N, 5, 5) at many displacements q (N, 5) in mm and rad, in parallel, at shaft
     ``speed`` (rpm, one or one per case). ValueError as :func:`stiffness` (naming the first such case)."""
-    bearing = _check_bearing(bearing)
+    bearing = _operating(bearing, speed, many=True)
     q = as_cases(q, "q", "dx, dy, dz in mm; bx, by in rad")
     n = q.shape[0]
     balls, speeds = speed_cases(bearing, speed, n)

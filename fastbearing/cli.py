@@ -19,6 +19,7 @@ from .boundary import parse_fix_option
 from .validate import FieldError
 from .model.bearing import ARRANGEMENTS, preset_names
 from .model.bearing_file import load_bearing, preset_bearing
+from .model.mounted import operating_bearing
 from .config import METHODS
 from .dofs import DISPLACEMENT_NAMES, LOAD_NAMES
 from .report.export import FORMATS as EXPORT_FORMATS
@@ -133,7 +134,8 @@ def build_parser() -> argparse.ArgumentParser:
                    "fault_frequency_conditions)")
     b.add_argument("--speed", type=float, metavar="RPM", help="shaft speed in rpm (> 0): add the fault frequencies "
                    "(Hz, and orders of the shaft frequency rpm/60); needs [bearing.geometry]; the ring that turns is "
-                   "the geometry's rotating key (default inner)")
+                   "the geometry's rotating key (default inner); with [bearing.mounting], the clearance budget at this "
+                   "speed (mm, N/mm^2, deg C; default 0 rpm)")
     b.add_argument("--load", metavar="Fx,Fy,Fz,Mx,My", help="with --speed: use the loaded contact angle at this load "
                    "on the inner ring (N, N, N, N*mm, N*mm; the mean over the loaded balls of a quasi-static solve) "
                    "instead of the nominal one")
@@ -586,7 +588,7 @@ def _bearing_command(args) -> int:
     speed = None if args.speed is None else number(args.speed, "--speed", low=0, low_open=True, units="rpm")
     load = None if args.load is None else _five_numbers(args.load, "--load")
     bearing = load_bearing(args.file)
-    rep = bearing_report(bearing)
+    rep = bearing_report(bearing, speed)
     try:
         faults = None if speed is None else fault_frequency_report(bearing, speed, load)
     except ValueError as err:  # the API's "load", as the command line spells it
@@ -694,6 +696,8 @@ def _solve(args) -> int:
             raise ValueError(str(err).replace("speed above", "--speed above", 1)) from None
 
     speed, life_speed = _speed_option(args.speed, args.life, bool(bearing.roller_rows), check_model)
+    # a bearing with [bearing.mounting] solves as it runs: the operating clearance and preload at this speed
+    bearing, budget = operating_bearing(bearing, life_speed)
     settings = None
     if args.life:
         from .analysis.life import LifeSettings, ratings
@@ -726,6 +730,8 @@ def _solve(args) -> int:
             result["note"] = (f"at {speed:g} rpm some balls have no equilibrium of their own at this displacement: "
                               "f and Kb there are not the model's (solve --balls shows each ball's residual)")
     result["speed"] = speed
+    if budget is not None:
+        result["operating"] = _operating_summary(budget)
     if args.balls:
         result["balls"] = ball_contacts(bearing, result["q"], speed).to_records()[:bearing.n_balls]
         if bearing.roller_rows:
@@ -741,6 +747,8 @@ def _solve(args) -> int:
     if args.json:
         print(json_text(result))
     else:
+        if budget is not None:
+            print("\n".join([budget["line"], *(f"  note: {n}" for n in budget["notes"])]))
         print(_table(result))
         if args.balls and result["balls"]:
             print(_balls_text(result["balls"]))
@@ -749,6 +757,17 @@ def _solve(args) -> int:
         if "life" in result:
             print(_life_text(result["life"]))
     return 0 if result["converged"] else 1
+
+
+def _operating_summary(budget: dict) -> dict:
+    """The --json field of a mounted bearing's run: per row the operating and unmounted diametral clearance
+    and axial preload (mm), the line the text prints, and the budget's notes."""
+    rows = budget["rows"]
+    return {"line": budget["line"], "speed": budget["speed"],
+            "operating_diametral_clearance": [r["operating_diametral_clearance"] for r in rows],
+            "unmounted_diametral_clearance": [r["unmounted_diametral_clearance"] for r in rows],
+            "operating_axial_preload": [r["operating_axial_preload"] for r in rows],
+            "notes": list(budget["notes"])}
 
 
 def _shaft_speed(args, shaft) -> tuple[float, float]:

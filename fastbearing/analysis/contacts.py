@@ -145,9 +145,9 @@ def roller_contacts(bearing: Bearing, q) -> RollerContacts:
     R)) with R the reduced radius in the rolling direction, Dw (1 - g)/2 at the inner and Dw (1 + g)/2 at
     the outer raceway (g = Dw cos a / dm; Harris & Kotzalas, Essential Concepts, ch. 6).
     """
-    from ..api import _as_vector, _check_bearing
+    from ..api import _as_vector, _operating
 
-    bearing = _check_bearing(bearing)
+    bearing = _operating(bearing, 0.0)  # a mounted bearing: the operating one (rollers: quasi-static)
     q = _as_vector(q, "q", "dx, dy, dz in mm; bx, by in rad")
     return rollers_from_slices(bearing, *slice_loads(bearing, q))
 
@@ -200,6 +200,9 @@ def ball_contacts(bearing: Bearing, q, speed=0.0) -> BallContacts:
     -------
     BallContacts
     """
+    from ..api import _operating
+
+    bearing = _operating(bearing, speed)  # a mounted bearing: the operating one at this speed
     if check_speed(speed) > 0.0:
         return _spinning_contacts(bearing, q, speed)
     Q, alpha = ball_loads(bearing, q)

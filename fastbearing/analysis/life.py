@@ -35,6 +35,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from .. import validate
+from ..model.mounted import operating
 from ..engine.schema import (LIFE_CE, LIFE_CI, LIFE_FIRST, LIFE_INNER, LIFE_SLICES, LIFE_X0, LIFE_Y0, LIFE_Z, N_LIFE_COLUMNS,
                      ROW)
 
@@ -626,8 +627,11 @@ def life(bearing, load, q, settings: LifeSettings | None = None) -> LifeResult:
     """Rating life of ``bearing`` under ``load`` (Fx, Fy, Fz, Mx, My; N, N*mm) with the solved
     displacement ``q`` (mm, rad): ISO 281 L10 of the bearing as a unit (radial load hypot(Fx, Fy), axial
     |Fz|; moments are not in ISO 281's P) and ISO/TS 16281 L10r from the ball loads at q (moments,
-    clearance, preload and every arrangement included)."""
+    clearance, preload and every arrangement included). A bearing with [bearing.mounting] is taken as it runs
+    at the speed ``q`` was solved at (``settings.speed`` with ``balls_at_speed``, else 0 rpm), as solve took it."""
     settings = settings or LifeSettings()
+    # a mounted bearing: the operating one at the speed q was solved at (settings.speed with balls_at_speed)
+    bearing = operating(bearing, settings.speed if settings.balls_at_speed and settings.speed else 0.0)
     r = ratings(bearing)
     if r.rollers:
         L_rows, Q_ei, Q_ee, pressure = _roller_lives(bearing, q, r, settings)

@@ -25,6 +25,7 @@ from ..dofs import DISPLACEMENT_NAMES
 from .. import validate
 from ..model.bearing import Bearing, check_speed, check_speed_model
 from ..model.bearing_file import bearing_from_table, load_bearing, read_toml
+from ..model.mounted import operating
 
 
 def transfer(d: float) -> np.ndarray:
@@ -199,6 +200,10 @@ def solve_shaft(shaft: Shaft, method: str = "newton", speed: float | None = None
     speed = shaft.speed if speed is None else check_speed(speed, "speed")
     if speed > 0:
         shaft.check_speed_model(speed)
+    if any(mb.bearing.mounting is not None for mb in shaft.bearings):
+        # a bearing with [bearing.mounting] sits on the shaft as it runs: its operating clearance and preload
+        shaft = replace(shaft, bearings=tuple(replace(mb, bearing=operating(mb.bearing, speed))
+                                              for mb in shaft.bearings))
     combined = shaft.as_bearing(at_speed=speed > 0)
     external = shaft.external_load()
     held = boundary.parse_fixed(shaft.fixed, where="shaft.fixed")
@@ -231,7 +236,7 @@ def shaft_life(shaft: Shaft, result: ShaftResult, settings=None) -> dict:
     for i, (mb, state) in enumerate(zip(shaft.bearings, result.bearings)):
         if getattr(mb.bearing, "geometry", None) is None:
             raise ValueError(f"shaft.bearings[{i}]: life needs the bearing's geometry ([bearing.geometry])")
-        lives.append(life(mb.bearing, state.reaction, state.q, settings).to_dict())
+        lives.append(life(operating(mb.bearing, result.speed), state.reaction, state.q, settings).to_dict())
     system = combine_series([b["L10r"] for b in lives], [b["weibull_slope"] for b in lives])
     return {"bearings": lives, "system_L10r": system,
             "system_L10r_hours": None if settings.speed is None else system * 1e6 / (60.0 * settings.speed)}

@@ -9,7 +9,7 @@ Units: N, mm, rad.
 from __future__ import annotations
 
 import hashlib
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import partial
 from pathlib import Path
 
@@ -22,6 +22,7 @@ from . import storage
 from .. import validate
 from ..api import solver_settings
 from ..model.bearing import Bearing, check_speed, check_speed_model
+from ..model.mounted import operating_attributes, operating_bearing, refuse_speed_cases
 from ..model.bearing_file import read_job_config
 from .. import boundary
 from ..dofs import AXES, UNITS
@@ -58,6 +59,8 @@ class LoadMapConfig:
     #: The variables the file keeps (None: all; status always), and the dtype of its real-valued ones.
     variables: tuple[str, ...] | None = None
     dtype: str = "float64"
+    #: A bearing with [bearing.mounting]: its operating clearance and preload as file attributes (mm, rpm).
+    operating: dict = field(default_factory=dict)
 
 
 def read_life(spec, where: str) -> LifeSettings | None:
@@ -122,6 +125,14 @@ def read_config(config) -> LoadMapConfig:
             speed = Axis("speed", values, "rpm", is_dim)
         cases = CaseSet(given, axes=tuple(axes), speed=speed)
     cases.check_size("loadmap")
+    operating_attrs = {}
+    if bearing.mounting is not None:
+        # the operating clearance varies with speed: one speed per run until maps vary the bearing per case
+        speeds = (cases.table[:, 5] if cases.table is not None and cases.table.shape[1] == 6
+                  else cases.speed.values if cases.speed is not None else [0.0])
+        rpm = refuse_speed_cases(bearing, speeds, "loadmap.speed" if cases.table is None else "loadmap.cases")
+        bearing, budget = operating_bearing(bearing, rpm)
+        operating_attrs = operating_attributes(budget)
     if cases.max_speed > 0:
         try:
             check_speed_model(bearing, cases.max_speed)
@@ -139,7 +150,7 @@ def read_config(config) -> LoadMapConfig:
         stored = tuple(dict.fromkeys(names_given))    # checked against the map's variables by job()
     dtype = validate.choice(spec.get("dtype", "float64"), "loadmap.dtype", jobs.RESULT_DTYPES)
     return LoadMapConfig(bearing, cases, chunk, compression, method, rtol, max_iter, text, source,
-                         digest.hexdigest(), life_settings, fixed, stored, dtype)
+                         digest.hexdigest(), life_settings, fixed, stored, dtype, operating_attrs)
 
 
 
@@ -210,7 +221,7 @@ def job(cfg: LoadMapConfig, device: str = "cpu") -> jobs.Job:
     given_load = cfg.cases.given == "load"
     variables = storage.result_variables(cfg.cases.given)
     life = None
-    attrs = {}
+    attrs = dict(cfg.operating)
     if cfg.fixed:
         attrs["fixed_dofs"] = ", ".join(boundary.names(cfg.fixed))
         attrs["fixed_note"] = ("the degrees of freedom in fixed_dofs are given as displacements (their grid axes, "

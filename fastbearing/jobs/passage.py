@@ -15,7 +15,7 @@ import csv
 import hashlib
 import json
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import partial, reduce
 from pathlib import Path
 
@@ -29,6 +29,7 @@ from .. import boundary, validate
 from ..api import solver_settings
 from ..model.bearing import Bearing, check_speed, check_speed_model, rpm_to_rad_s
 from ..model.bearing_file import read_job_config
+from ..model.mounted import operating_attributes, operating_bearing
 from ..dofs import AXES, K_ENTRIES, K_UNITS, UNITS
 from ..files import publish
 from .grid import CaseSet, check_fixed_axes, fixed_mask, input_axes
@@ -84,6 +85,8 @@ class PassageConfig:
     defects: tuple = ()
     kinematics: object = None  # defects.Kinematics where the table runs over revolutions
     element_loads: bool = False  # store each element's load at every position
+    #: A bearing with [bearing.mounting]: its operating clearance and preload as file attributes (mm, rpm).
+    operating: dict = field(default_factory=dict)
 
     @property
     def n_positions(self) -> int:
@@ -178,12 +181,16 @@ def read_config(config) -> PassageConfig:
         g = bearing.geometry
         speed = CageSpeed(model_speed, g.ball_diameter, g.pitch_diameter,
                           math.radians(bearing.rows[0].contact_angle), g.rotating)
+    operating_attrs = {}
+    if bearing.mounting is not None:  # the bearing as it runs at its one speed (the model's, else the time axis')
+        bearing, budget = operating_bearing(bearing, model_speed or (speed.shaft_speed if speed else 0.0))
+        operating_attrs = operating_attributes(budget)
     revolutions, defects, kinematics = _revolutions(spec, bearing, positions)
     element_loads = validate.boolean(spec.get("element_loads", False), "passage.element_loads")
     digest = hashlib.sha256(text.encode()).hexdigest()
     return PassageConfig(bearing, cases, positions, harmonics, speed, method, spec.get("rtol"),
                          spec.get("max_iter"), chunk, text, source, digest, model_speed, fixed, revolutions,
-                         defects, kinematics, element_loads)
+                         defects, kinematics, element_loads, operating_attrs)
 
 
 def _revolutions(spec: dict, bearing: Bearing, positions: int):
@@ -331,7 +338,7 @@ def job(cfg: PassageConfig, device: str = "cpu") -> jobs.Job:
         own += (C("element", np.arange(cfg.bearing.n_elements), "1", "element (ball or roller) number in the "
                   "bearing's element order"),)
     attrs = {"period_rad": cfg.period, "period_order": cfg.period_order, "positions": cfg.positions,
-             "n_points": cfg.cases.n_cases, "speed_rpm": cfg.model_speed}
+             "n_points": cfg.cases.n_cases, "speed_rpm": cfg.model_speed, **cfg.operating}
     if cfg.fixed:
         attrs.update(fixed_dofs=", ".join(boundary.names(cfg.fixed)),
                      fixed_note="the degrees of freedom in fixed_dofs are given as displacements (their axes, mm "

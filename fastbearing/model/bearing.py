@@ -144,6 +144,9 @@ class Bearing:
     name: str = ""
     #: Catalogue geometry the rows were derived from (a fastbearing.Geometry), or None.
     geometry: object = None
+    #: The fits and temperatures of ``[bearing.mounting]`` (a fastbearing.model.mounted.Mounting), or None:
+    #: the solves then use :func:`fastbearing.model.mounted.operating_bearing` at their speed.
+    mounting: object = None
 
     def __post_init__(self):
         rows = tuple(validate.array(self.rows, "rows", min_length=1))

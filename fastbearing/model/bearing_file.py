@@ -16,9 +16,10 @@ from pathlib import Path
 from .. import validate
 from .bearing import SHARED_ROW_KEYS, Bearing, preset_names, preset_table
 from .geometry import geometry_from_table
+from .mounted import Mounting, clearance_spec, mounting_from_table
 from .rollers import ROLLER_KEYS
 
-_TABLE_KEYS = set(SHARED_ROW_KEYS) | set(ROLLER_KEYS) | {"arrangement", "row_offset", "axial_preload", "preset", "name", "rows", "geometry"}
+_TABLE_KEYS = set(SHARED_ROW_KEYS) | set(ROLLER_KEYS) | {"arrangement", "row_offset", "axial_preload", "preset", "name", "rows", "geometry", "mounting"}
 #: Keys a [bearing.geometry] table derives; giving them in [bearing] too would be ambiguous.
 _GEOMETRY_DERIVED = ("n_balls", "hertz_constant", "pitch_radius", "groove_center_distance", "contact_angle",
                      "exponent", "radial_clearance", "row_offset", "deflection_limit")
@@ -42,6 +43,9 @@ def bearing_from_table(table, where: str = "bearing") -> Bearing:
     """
     validate.table(table, where, _TABLE_KEYS)
     table = dict(table)
+    if "mounting" in table and "geometry" not in table:
+        raise validate.FieldError(f"{where}.mounting", f"needs [{where}.geometry] with the boundary dimensions "
+                                  "bore and outer_diameter (mm)", show_value=False)
     if "geometry" in table:
         return _geometry_bearing(table, where)
     if "preset" in table:
@@ -67,6 +71,13 @@ def _geometry_bearing(table: dict, where: str) -> Bearing:
                                   f"[{where}] (or drop the geometry table and give the model parameters directly)",
                                   show_value=False)
     spec = table.pop("geometry")
+    mounting_table = table.pop("mounting", None)
+    group = clearance_range = None
+    if isinstance(spec, dict) and isinstance(spec.get("diametral_clearance"), (str, list, tuple)):
+        # an ISO 5753-1 group or a [min, max] range: the geometry solves the mean, the report keeps the range
+        spec = dict(spec)
+        spec["diametral_clearance"], group, clearance_range = clearance_spec(spec["diametral_clearance"], spec,
+                                                                              f"{where}.geometry")
     if isinstance(spec, dict) and spec.get("element", "ball") != "ball":
         from .roller_geometry import roller_geometry_from_table
 
@@ -99,7 +110,14 @@ def _geometry_bearing(table: dict, where: str) -> Bearing:
             raise validate.FieldError(f"{where}.geometry.{key}", err.rule, err.value,
                                       show_value=err.show_value) from None
         raise
-    return replace(built, geometry=geometry)
+    if mounting_table is not None:
+        mounting = mounting_from_table(mounting_table, geometry, f"{where}.mounting", group=group,
+                                       clearance_range=clearance_range)
+    elif clearance_range is not None:
+        mounting = Mounting(given=False, clearance_group=group, clearance_range=clearance_range)
+    else:
+        mounting = None
+    return replace(built, geometry=geometry, mounting=mounting)
 
 
 def read_toml(path) -> dict:

@@ -19,13 +19,14 @@ from ..analysis.faults import fault_frequencies
 from ..model.bearing import MAX_SPEED, check_speed_model, speed_limit
 from ..model.four_point import ELEMENT as FOUR_POINT
 from ..model.geometry import load_centre_spread
+from ..model.mounted import operating_bearing
 
 #: What each fault frequency is, in words (the text report's second column).
 FAULT_WORDS = {"FTF": "cage (fundamental train)", "BPFO": "ball pass, outer race", "BPFI": "ball pass, inner race",
                "BSF": "ball spin", "ball_defect": "ball defect (2 BSF)"}
 
 
-def bearing_report(bearing) -> dict:
+def bearing_report(bearing, speed=None) -> dict:
     """A bearing's derived model parameters, JSON-ready (what `fastbearing bearing FILE --json` prints): every
     row's (lengths mm, angles deg and rad, Kn N/mm^n; a four-point row as its two contact pairs, each with
     ``element`` "four_point_ball" and ``pair`` +1 or -1, and ``four_point_rows`` the pairs' row indices), the
@@ -68,6 +69,10 @@ def bearing_report(bearing) -> dict:
         pass
     else:
         out["speed_limit"] = speed_limit(bearing)
+    if getattr(bearing, "mounting", None) is not None:
+        # [bearing.mounting] (or a clearance group or range): the clearance budget at ``speed`` rpm (default 0)
+        _, budget = operating_bearing(bearing, 0.0 if speed is None else speed)
+        out["mounting"] = budget
     return out
 
 
@@ -157,7 +162,45 @@ def bearing_report_text(rep: dict, bearing) -> str:
     if "speed_limit" in rep:
         lines.append(f"speed limit: {rep['speed_limit']:.6g} rpm (above it the centrifugal force alone takes a ball "
                      "beyond the validity limit)")
+    if "mounting" in rep:
+        lines += mounting_text(rep["mounting"])
     return "\n".join(lines)
+
+
+def mounting_text(budget: dict) -> list[str]:
+    """The short mounting block of the text report: the run line, then row 0's budget in um and N/mm^2 (every
+    row shares the rings' fits; a pair's rows differ only in their axial preload, which the line gives)."""
+    def um(v):
+        return f"{1000.0 * v:.4g} um"
+
+    def rng(r, key):
+        return f" (range {um(r[key][0])} to {um(r[key][1])})" if key in r else ""
+
+    lines = [f"mounting: {budget['line']}" + ("" if budget["speed"] > 0 else " at rest (--speed RPM: running)")]
+    r = budget["rows"][0]
+    if "shaft_fit_pressure" in r:
+        fits = [f"shaft {budget['shaft_fit']}" if budget.get("shaft_fit") else "",
+                f"housing {budget['housing_fit']}" if budget.get("housing_fit") else ""]
+        lines += [
+            f"  unmounted diametral clearance  {um(r['unmounted_diametral_clearance'])}"
+            f"{rng(r, 'unmounted_diametral_clearance_range')}",
+            f"  shaft interference             {um(r['shaft_interference'])} operating{rng(r, 'shaft_interference_range')}"
+            f", fit pressure {r['shaft_fit_pressure']:.4g} N/mm^2",
+            f"  housing interference           {um(r['housing_interference'])} operating"
+            f"{rng(r, 'housing_interference_range')}, fit pressure {r['housing_fit_pressure']:.4g} N/mm^2",
+            f"  mounted diametral clearance    {um(r['mounted_diametral_clearance'])} (fits, at assembly, standing)",
+            f"  raceways: inner grows {um(r['inner_raceway_growth'])} (fit) + {um(r['inner_raceway_free_growth'])}"
+            f" (free), outer contracts {um(r['outer_raceway_contraction'])} (fit) + "
+            f"{um(r['outer_raceway_free_contraction'])} (free); balls grow {um(2.0 * r['ball_growth'])}",
+            f"  operating diametral clearance  {um(r['operating_diametral_clearance'])}",
+            f"  ring hoop stress at the bore   inner {r['inner_ring_hoop_stress']:.4g} N/mm^2, outer "
+            f"{r['outer_ring_hoop_stress']:.4g} N/mm^2"]
+        named = [f for f in fits if f]
+        if named:
+            lines[1:1] = ["  fits: " + ", ".join(named) + " (ISO 286 on ISO 492 Normal rings; the solve uses each "
+                          "range's mean)"]
+    lines += [f"  note: {n}" for n in budget["notes"]]
+    return lines
 
 
 
