@@ -51,6 +51,7 @@ import warnings
 
 from .. import validate
 from ..validate import FieldError
+from .geometry import Material
 
 #: Lowest temperature a user may give, deg C (absolute zero).
 ABSOLUTE_ZERO = -273.15
@@ -67,39 +68,24 @@ ROTATING = ("inner", "outer")
 
 # -- materials ------------------------------------------------------------------
 @dataclass(frozen=True)
-class BodyMaterial:
-    """The material of a mounted body (shaft, ring, ball, housing).
+class BodyMaterial(Material):
+    """The material of a mounted body (shaft, ring, ball, housing): a :class:`fastbearing.Material` (E in
+    N/mm^2 > 0, nu in [0, 0.5), rho in kg/m^3 > 0, checked there) with its thermal expansion.
 
     Parameters
     ----------
-    name : str
-    youngs_modulus : float
-        E in N/mm^2, > 0.
-    poisson_ratio : float
-        nu, in [0, 0.5).
-    density : float
-        rho in kg/m^3, > 0 (centrifugal growth).
     thermal_expansion : float
         alpha in 1/K, |alpha| < 1e-4 (steel 12.5e-6; a value such as 12.5 was typed in 1e-6/K).
     """
 
-    name: str
-    youngs_modulus: float
-    poisson_ratio: float
-    density: float
-    thermal_expansion: float
+    thermal_expansion: float = 12.5e-6
 
     def __post_init__(self):
-        set_ = object.__setattr__
-        set_(self, "name", validate.text(self.name, "name"))
-        set_(self, "youngs_modulus", validate.number(self.youngs_modulus, "youngs_modulus", low=0,
-                                                     low_open=True, units="N/mm^2"))
-        set_(self, "poisson_ratio", validate.number(self.poisson_ratio, "poisson_ratio", low=0, high=0.5,
-                                                    high_open=True))
-        set_(self, "density", validate.number(self.density, "density", low=0, low_open=True, units="kg/m^3"))
-        set_(self, "thermal_expansion", validate.number(self.thermal_expansion, "thermal_expansion", low=-1e-4,
-                                                        high=1e-4, low_open=True, high_open=True,
-                                                        units="1/K (steel: 12.5e-6)"))
+        object.__setattr__(self, "name", validate.text(self.name, "name"))
+        super().__post_init__()
+        object.__setattr__(self, "thermal_expansion", validate.number(
+            self.thermal_expansion, "thermal_expansion", low=-1e-4, high=1e-4, low_open=True, high_open=True,
+            units="1/K (steel: 12.5e-6)"))
 
     def as_dict(self) -> dict:
         """name, youngs_modulus (N/mm^2), poisson_ratio, density (kg/m^3), thermal_expansion (1/K)."""
