@@ -33,6 +33,8 @@ _PUBLIC = {
     **dict.fromkeys(("fault_frequencies", "fault_orders"), "analysis.faults"),
     "passage": "jobs.passage",
     "operating_bearing": "model.mounted",
+    "catalogue_names": "model.catalogue",
+    **dict.fromkeys(("shipped_bearings", "shipped_bearings_text"), "report.catalogue"),
 }
 
 try:
