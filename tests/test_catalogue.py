@@ -1,5 +1,6 @@
 """The shipped bearings (fastbearing/catalogue/*.toml): package data found by name from any folder, a path
-still winning; their listing (what `fastbearing bearings` prints) agrees with the files and the docs."""
+still winning; their listing (what `fastbearing bearings` prints) agrees with the files and the docs; a
+four-point `element` typed in [bearing.geometry] is told where it belongs."""
 
 import json
 import re
@@ -9,7 +10,7 @@ from pathlib import Path
 import pytest
 
 import fastbearing as fb
-from fastbearing.model.bearing_file import read_job_config
+from fastbearing.model.bearing_file import bearing_from_table, read_job_config
 from fastbearing.model.catalogue import catalogue_file, catalogue_folder, catalogue_names, find_bearing_file
 from fastbearing.report.catalogue import shipped_bearings, shipped_bearings_text
 
@@ -195,6 +196,30 @@ def test_the_docs_table_is_the_listing(listing):
         else:
             assert dims == f"{e['bore']:g} x {e['outer_diameter']:g} x {e['width']:g}"
             assert (C, C0) == (f"{e['C']:.0f}", f"{e['C0']:.0f}")
+
+
+# -- a four-point element in the geometry table -----------------------------------------------------------
+
+def _qj210_with_element_in_geometry(element):
+    table = tomllib.loads((FOLDER / "QJ210.toml").read_text())["bearing"]
+    del table["element"]
+    table["geometry"]["element"] = element
+    return table
+
+
+def test_a_four_point_element_in_the_geometry_table_is_pointed_to_bearing():
+    with pytest.raises(ValueError, match=r"^bearing\.geometry\.element belongs in the \[bearing\] table "
+                                         r"\(beside arrangement\), not in \[bearing\.geometry\]") as err:
+        bearing_from_table(_qj210_with_element_in_geometry("four_point_ball"))
+    assert "n_rollers" not in str(err.value)  # no list of roller keys
+    with pytest.raises(ValueError, match=r"bearing\.geometry\.element is not needed: a ball geometry makes ball"):
+        bearing_from_table(_qj210_with_element_in_geometry("ball"))
+    with pytest.raises(ValueError, match=r"bearing\.geometry\.element must be one of \['cylindrical_roller', "
+                                         r"'tapered_roller'\].*element = \"four_point_ball\" in the \[bearing\] "
+                                         r"table, got 'bogus'"):
+        bearing_from_table(_qj210_with_element_in_geometry("bogus"))
+    # where it belongs, the file as shipped
+    assert fb.load_bearing("QJ210").rows[0].element == "four_point_ball"
 
 
 def test_find_bearing_file_refuses_a_folder(tmp_path, monkeypatch):

@@ -20,7 +20,8 @@ from .bearing import SHARED_ROW_KEYS, Bearing, preset_names, preset_table
 from .catalogue import catalogue_names, find_bearing_file
 from .geometry import geometry_from_table
 from .mounted import Mounting, clearance_spec, mounting_from_table
-from .rollers import ROLLER_KEYS
+from .four_point import ELEMENT as FOUR_POINT
+from .rollers import ROLLER_ELEMENTS, ROLLER_KEYS
 
 _TABLE_KEYS = set(SHARED_ROW_KEYS) | set(ROLLER_KEYS) | {"arrangement", "row_offset", "axial_preload", "preset", "name", "rows", "geometry", "mounting"}
 #: Keys a [bearing.geometry] table derives; giving them in [bearing] too would be ambiguous.
@@ -82,7 +83,21 @@ def _geometry_bearing(table: dict, where: str) -> Bearing:
         spec = dict(spec)
         spec["diametral_clearance"], group, clearance_range = clearance_spec(spec["diametral_clearance"], spec,
                                                                               f"{where}.geometry")
-    if isinstance(spec, dict) and spec.get("element", "ball") != "ball":
+    if isinstance(spec, dict) and "element" in spec and spec["element"] not in ROLLER_ELEMENTS:
+        # a ball geometry has no element key: four-point rows say so in [bearing] (as QJ210.toml does)
+        rollers = f"[{where}.geometry] takes element only for a roller geometry, {list(ROLLER_ELEMENTS)}"
+        four_point = f'element = "{FOUR_POINT}" in the [{where}] table'
+        if spec["element"] == FOUR_POINT:
+            say = (f"belongs in the [{where}] table (beside arrangement), not in [{where}.geometry]: "
+                   f"{four_point} makes the geometry's ball rows four-point rows; {rollers}")
+        elif spec["element"] == "ball":
+            say = (f"is not needed: a ball geometry makes ball rows (leave element out; {four_point} makes "
+                   f"them four-point rows); {rollers}")
+        else:
+            say = (f"must be one of {list(ROLLER_ELEMENTS)} (a roller geometry); for ball rows leave it out, "
+                   f"for four-point rows give {four_point}")
+        raise validate.FieldError(f"{where}.geometry.element", say, spec["element"])
+    if isinstance(spec, dict) and "element" in spec:
         from .roller_geometry import roller_geometry_from_table
 
         clash = [k for k in ("element", "n_rollers", "roller_effective_length", "slices", "crown", "crown_radius",
