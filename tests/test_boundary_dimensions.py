@@ -21,7 +21,7 @@ ROLLER = dict(element="cylindrical_roller", n_rollers=13, roller_diameter=7.5, r
 
 
 def test_every_shipped_catalogue_file_has_its_boundary_dimensions_with_a_source():
-    files = {p.stem for p in DATA.glob("*.toml") if not p.is_symlink()}
+    files = {p.stem for p in DATA.glob("*.toml")} - set(fb.preset_names())  # the presets have no geometry
     assert files == set(PUBLISHED)
     for name, dims in PUBLISHED.items():
         g = fb.load_bearing(DATA / f"{name}.toml").geometry
