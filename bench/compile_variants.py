@@ -27,7 +27,7 @@ STEPS = {
         "import fastbearing as fb; "
         "assert fb.solve(fb.Bearing.preset('gunduz2013', 'DB'), [1000.0, 0, 3000.0, 0, -74000.0]).converged"),
     "first solve at speed": (
-        f"import fastbearing as fb; b = fb.load_bearing({str(ROOT / 'data/bearings/7014C-DB.toml')!r}); "
+        f"import fastbearing as fb; b = fb.load_bearing({str(ROOT / 'fastbearing/catalogue/7014C-DB.toml')!r}); "
         "assert fb.solve(b, [500.0, 0, 1000.0, 0, 0], speed=12000.0).converged"),
     "first load map (the 1M example's kernels)": (
         "import tomllib, tempfile, pathlib, fastbearing as fb; "
@@ -36,7 +36,7 @@ STEPS = {
         "doc['loadmap']['Fz'] = {'start': 100.0, 'stop': 1000.0, 'num': 3}; "
         "d = tempfile.mkdtemp(); fb.loadmap(doc, pathlib.Path(d) / 'm.h5', progress=False)"),
     "first roller solve": (
-        f"import fastbearing as fb; b = fb.load_bearing({str(ROOT / 'data/bearings/30206-TDO.toml')!r}); "
+        f"import fastbearing as fb; b = fb.load_bearing({str(ROOT / 'fastbearing/catalogue/30206-TDO.toml')!r}); "
         "assert fb.solve(b, [3000.0, 0, 1000.0, 0, 0]).converged"),
 }
 

@@ -226,7 +226,7 @@ def main():
         "speed": [0.0, 12000.0], "Fx": 500.0, "Fz": axis(0.0, 2000.0, 3)}}
     speed = tiny_speed if small else {"bearing": spindle["bearing"], "loadmap": spindle["loadmap"] | {
         "speed": axis(0.0, 24000.0, 49), "Fx": axis(0.0, 1000.0, 21), "Fz": axis(0.0, 2000.0, 201)}}
-    taper = str(ROOT / "data" / "bearings" / "30206-TDO.toml")
+    taper = str(ROOT / "fastbearing" / "catalogue" / "30206-TDO.toml")
     roller_axes = {"given": "load", "Fy": 0.0, "Mx": 0.0}
     tiny_roller = {"bearing": taper, "loadmap": roller_axes | {
         "Fx": axis(-3000.0, 3000.0, 2), "Fz": axis(-2000.0, 2000.0, 2), "My": axis(-2e4, 2e4, 3)}}

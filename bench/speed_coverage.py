@@ -25,7 +25,7 @@ import fastbearing as fb  # noqa: E402
 from fastbearing import status as st  # noqa: E402
 from fastbearing.model.bearing import speed_limit  # noqa: E402
 
-DATA = Path(__file__).resolve().parents[1] / "data" / "bearings"
+DATA = Path(__file__).resolve().parents[1] / "fastbearing" / "catalogue"
 
 
 def random_cases(rng, n):

@@ -13,7 +13,7 @@ import pytest
 
 from fastbearing.jobs import passage, runner
 
-BEARING = str(Path(__file__).resolve().parents[1] / "data" / "bearings" / "6205.toml")
+BEARING = str(Path(__file__).resolve().parents[1] / "fastbearing" / "catalogue" / "6205.toml")
 SPALL = [{"race": "outer", "angle": 0.0, "width": 1.0, "depth": 0.05}]
 
 

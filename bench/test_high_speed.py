@@ -15,7 +15,7 @@ from conftest import random_loads
 import fastbearing as fb
 
 ROOT = Path(__file__).resolve().parents[1]
-SPINDLE = fb.load_bearing(ROOT / "data" / "bearings" / "7014C-DB.toml")
+SPINDLE = fb.load_bearing(ROOT / "fastbearing" / "catalogue" / "7014C-DB.toml")
 #: Combined loads scaled to the spindle pair (Fx, Fy +-1.5 kN, Fz +-4 kN, moments +-50 N*m).
 LOADS = random_loads(2000, seed=3) * 0.5
 
@@ -31,7 +31,7 @@ def test_solve_at_speed(benchmark, speed):
                                     evaluations_per_case=float(np.mean(out.evaluations)))
 
 
-QJ210 = fb.load_bearing(ROOT / "data" / "bearings" / "QJ210.toml")
+QJ210 = fb.load_bearing(ROOT / "fastbearing" / "catalogue" / "QJ210.toml")
 #: Fx, Fy, Fz up to 3 kN each way, no moment (the four-point QJ 210 and the 7014C-DB pair alike).
 POINT_LOADS = np.column_stack([np.random.default_rng(3).uniform(-3000.0, 3000.0, (2000, 3)), np.zeros((2000, 2))])
 

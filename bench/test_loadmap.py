@@ -86,7 +86,7 @@ print(json.dumps({"wall_s": time.perf_counter() - t}))
 def test_life_overhead(benchmark, tmp_path):
     """Rating life adds per case only sums over the balls already loaded: the cost of life = true."""
     doc = tomllib.loads(EXAMPLE.read_text())
-    bearing = tomllib.loads((EXAMPLE.parents[1] / "bearings" / "3306.toml").read_text())["bearing"]
+    bearing = tomllib.loads((EXAMPLE.parents[2] / "fastbearing" / "catalogue" / "3306.toml").read_text())["bearing"]
 
     def wall(life):
         config = {"bearing": bearing, "loadmap": {**doc["loadmap"], "life": life}}
@@ -118,7 +118,7 @@ def test_life_block_overhead(benchmark):
 
     loadmap = importlib.import_module("fastbearing.jobs.loadmap")
     doc = tomllib.loads(EXAMPLE.read_text())
-    bearing = tomllib.loads((EXAMPLE.parents[1] / "bearings" / "3306.toml").read_text())["bearing"]
+    bearing = tomllib.loads((EXAMPLE.parents[2] / "fastbearing" / "catalogue" / "3306.toml").read_text())["bearing"]
     setups = {}
     for life in (False, True):
         cfg = loadmap.read_config({"bearing": bearing, "loadmap": {**doc["loadmap"], "life": life}})

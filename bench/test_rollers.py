@@ -12,7 +12,7 @@ from conftest import BEARING, repeat_kernel
 
 import fastbearing as fb
 
-TDO_FILE = Path(__file__).resolve().parents[1] / "data" / "bearings" / "30206-TDO.toml"
+TDO_FILE = Path(__file__).resolve().parents[1] / "fastbearing" / "catalogue" / "30206-TDO.toml"
 TDO = fb.load_bearing(TDO_FILE)
 EVALS_PER_ROUND = 200
 

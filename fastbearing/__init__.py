@@ -1,8 +1,12 @@
 """fastbearing: stiffness matrices of rolling bearings, fast.
 
-Gunduz & Singh (2013) double-row angular contact ball bearing model: the
-full 5x5 stiffness matrix Kb of single-row, double-row (DB, DF, DT) and
-general sets of rows, given the displacement q or the load f.
+The full 5x5 stiffness matrix Kb, given the displacement q or the load f, of
+deep-groove, angular contact (single, DB, DF, DT), four-point contact ball,
+cylindrical and tapered roller (single, TDO, TDI) bearings and any set of
+rows, at rest and (ball bearings) at speed; from the Gunduz & Singh (2013)
+double-row angular contact ball bearing model. Also load maps, ball-passage
+tables, defects and fault frequencies, rating life, shafts, mounting and
+exports; 14 shipped bearings by name (:func:`shipped_bearings`).
 
 Units: N, mm, rad. q = (dx, dy, dz, bx, by); f = (Fx, Fy, Fz, Mx, My).
 
@@ -33,6 +37,8 @@ _PUBLIC = {
     **dict.fromkeys(("fault_frequencies", "fault_orders"), "analysis.faults"),
     "passage": "jobs.passage",
     "operating_bearing": "model.mounted",
+    "catalogue_names": "model.catalogue",
+    **dict.fromkeys(("shipped_bearings", "shipped_bearings_text"), "report.catalogue"),
 }
 
 try:

@@ -65,14 +65,14 @@ def scenarios(rng):
         return compare(fb.solve_many(db, Fb, method="broyden"), fb.solve_many(db, Fb, method="broyden", device="cuda"))
 
     def speed_ball():
-        spindle = fb.load_bearing(DATA / "bearings" / "7014C-DB.toml")
+        spindle = fb.load_bearing(DATA.parent / "fastbearing" / "catalogue" / "7014C-DB.toml")
         Fs = np.column_stack([rng.uniform(0, 1000, 6), np.zeros(6), rng.uniform(100, 2000, 6), np.zeros(6),
                               np.zeros(6)])
         speeds = np.array([0.0, 6000.0, 12000.0, 18000.0, 24000.0, 9000.0])
         return compare(fb.solve_many(spindle, Fs, speed=speeds), fb.solve_many(spindle, Fs, speed=speeds, device="cuda"))
 
     def roller():
-        taper = fb.load_bearing(DATA / "bearings" / "30206-TDO.toml")
+        taper = fb.load_bearing(DATA.parent / "fastbearing" / "catalogue" / "30206-TDO.toml")
         Fr = np.column_stack([rng.uniform(-3000, 3000, 8), rng.uniform(-500, 500, 8), rng.uniform(-2000, 2000, 8),
                               rng.uniform(-2e4, 2e4, 8), rng.uniform(-2e4, 2e4, 8)])
         return compare(fb.solve_many(taper, Fr), fb.solve_many(taper, Fr, device="cuda"))
@@ -85,9 +85,9 @@ def scenarios(rng):
 
     def passage_roller_speed():
         """The tapered pair's table and the spindle pair's at 12 000 rpm with an outer-race spall."""
-        taper = {"bearing": str(DATA / "bearings" / "30206-TDO.toml"),
+        taper = {"bearing": str(DATA.parent / "fastbearing" / "catalogue" / "30206-TDO.toml"),
                  "passage": {"given": "load", "Fx": [1000.0, 3000.0], "Fz": 500.0, "positions": 6}}
-        spall = {"bearing": str(DATA / "bearings" / "7014C-DB.toml"),
+        spall = {"bearing": str(DATA.parent / "fastbearing" / "catalogue" / "7014C-DB.toml"),
                  "passage": {"given": "load", "Fx": [500.0], "Fz": 1000.0, "positions": 6, "speed": 12000.0,
                              "defects": [{"race": "outer", "angle": 0.0, "width": 1.0, "depth": 0.01}]}}
         return {"roller": compare_passage(taper), "speed_defect": compare_passage(spall)}

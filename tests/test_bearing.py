@@ -92,7 +92,7 @@ def write(tmp_path, text, name="b.toml"):
 
 
 def test_shipped_example_file_is_the_preset():
-    from_file = fb.load_bearing(ROOT / "data" / "bearings" / "gunduz2013.toml")
+    from_file = fb.load_bearing(ROOT / "fastbearing" / "catalogue" / "gunduz2013.toml")
     assert from_file == fb.Bearing.preset("gunduz2013", "DB")
     assert "gunduz2013" in fb.preset_names()
 

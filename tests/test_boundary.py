@@ -16,7 +16,7 @@ from scipy.optimize import fsolve
 import fastbearing as fb
 from naive import bearing_load_extended
 
-DATA = Path(__file__).parent.parent / "data" / "bearings"
+DATA = Path(__file__).parent.parent / "fastbearing" / "catalogue"
 BALL = fb.load_bearing(DATA / "6305.toml")
 TAPERED = fb.load_bearing(DATA / "30206.toml")
 DB = fb.Bearing.preset("gunduz2013", "DB")
@@ -206,7 +206,7 @@ def test_a_shaft_held_square_at_its_reference_balances_with_the_holder(tmp_path)
     from fastbearing.cli import main
 
     text = (Path(__file__).parents[1] / "data" / "examples" / "gearbox-tapered-pair.toml").read_text()
-    text = text.replace("../bearings/", str(DATA) + "/").replace(
+    text = text.replace(
         "reference = 0.0 ", "fixed = { bx = 0.0, by = 0.0 }\nreference = 0.0 ")
     path = tmp_path / "held.toml"
     path.write_text(text)

@@ -57,7 +57,7 @@ def test_negative_first_component_and_table_output(tmp_path):
 
 
 def test_displacement_given(tmp_path):
-    p = run("solve", "--bearing", f"{ROOT}/data/bearings/gunduz2013.toml", "--displacement", "0.05,0,0,0,0", "--json")
+    p = run("solve", "--bearing", f"{ROOT}/fastbearing/catalogue/gunduz2013.toml", "--displacement", "0.05,0,0,0,0", "--json")
     out = json.loads(p.stdout)
     assert out["status"] == "direct" and 15e3 < out["f"][0] < 25e3
 
@@ -174,7 +174,7 @@ def test_the_bearing_report_is_reachable_from_python_and_gives_the_speed_limit()
 
     import fastbearing as fb
 
-    data = Path(__file__).parents[1] / "data" / "bearings"
+    data = Path(__file__).parents[1] / "fastbearing" / "catalogue"
     for name in ("7014C-DB.toml", "NU205.toml", "6305.toml"):
         b = fb.load_bearing(data / name)
         body = _json.loads(cli_run("bearing", data / name, "--json").stdout)

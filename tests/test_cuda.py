@@ -165,8 +165,8 @@ def test_kernels_lower_to_ptx_for_a_real_gpu(monkeypatch, kind, tmp_path):
     monkeypatch.setattr(dispatcher, "get_current_device", lambda: Sm90())
     bearings = [fb.Bearing.preset("gunduz2013", "DB")]
     if os.environ.get("FASTBEARING_PTX_ALL") == "1":
-        bearings += [fb.load_bearing(DATA / "bearings" / "7014C-DB.toml"),
-                     fb.load_bearing(DATA / "bearings" / "30206-TDO.toml")]
+        bearings += [fb.load_bearing(DATA.parent / "fastbearing" / "catalogue" / "7014C-DB.toml"),
+                     fb.load_bearing(DATA.parent / "fastbearing" / "catalogue" / "30206-TDO.toml")]
     for bearing in bearings:
         speed = 6000.0 if bearing.name == "7014C-DB" else 0.0
         if kind == "solve":

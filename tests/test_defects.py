@@ -14,7 +14,7 @@ import pytest
 import fastbearing as fb
 from fastbearing.model.defects import Defect, Kinematics, element_depths
 
-DATA = Path(__file__).parents[1] / "data" / "bearings"
+DATA = Path(__file__).parents[1] / "fastbearing" / "catalogue"
 BALL = str(DATA / "6305.toml")
 
 

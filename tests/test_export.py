@@ -52,7 +52,7 @@ def test_dmig_round_trip_one_grid(tmp_path):
 def test_dmig_keeps_every_entry_of_a_kb_at_speed(tmp_path):
     """Kb at shaft speed is not symmetric (the friction of the balls' gyroscopic moments): written as the
     whole square matrix (IFO = 1), nothing lost."""
-    spindle = fb.load_bearing(Path(__file__).resolve().parents[1] / "data" / "bearings" / "7014C-DB.toml")
+    spindle = fb.load_bearing(Path(__file__).resolve().parents[1] / "fastbearing" / "catalogue" / "7014C-DB.toml")
     K_speed = fb.solve(spindle, (500.0, 0.0, 1000.0, 0.0, 0.0), speed=18000.0).K
     assert not np.allclose(K_speed, K_speed.T, rtol=0, atol=1e-9 * np.abs(K_speed).max())
     path = ex.write_dmig(tmp_path / "k.dmig", K_speed, grid=7)

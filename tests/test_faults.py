@@ -17,7 +17,7 @@ from fastbearing.analysis.contacts import ball_contacts
 from fastbearing.analysis.faults import NAMES, fault_frequencies, fault_orders
 from fastbearing.report.bearing_report import fault_frequency_report, fault_frequency_text
 
-BEARINGS = Path(__file__).resolve().parents[1] / "data" / "bearings"
+BEARINGS = Path(__file__).resolve().parents[1] / "fastbearing" / "catalogue"
 
 
 def closed_form(D, dm, Z, a_deg, rotating):

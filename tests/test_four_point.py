@@ -17,7 +17,7 @@ from fastbearing.analysis.contacts import ball_contacts
 from fastbearing.model.four_point import ContactPair, FourPointRow
 from four_point_reference import four_point_load
 
-DATA = Path(__file__).parent.parent / "data" / "bearings"
+DATA = Path(__file__).parent.parent / "fastbearing" / "catalogue"
 QJ210 = fb.load_bearing(DATA / "QJ210.toml")
 SPINDLE = fb.load_bearing(DATA / "7014C-DB.toml").geometry
 

@@ -14,7 +14,7 @@ import fastbearing as fb
 from fastbearing.analysis import life as L
 from fastbearing.engine.schema import LIFE_X0, LIFE_Y0
 
-QJ210 = fb.load_bearing(Path(__file__).resolve().parents[1] / "data" / "bearings" / "QJ210.toml")
+QJ210 = fb.load_bearing(Path(__file__).resolve().parents[1] / "fastbearing" / "catalogue" / "QJ210.toml")
 
 
 def skf_qj(Fr, Fa):

@@ -18,7 +18,7 @@ from fastbearing.engine.schema import WARM_LINEARISE
 from fastbearing.status import BALL_LINEARISED
 from four_point_reference import four_point_load
 
-DATA = Path(__file__).parent.parent / "data" / "bearings"
+DATA = Path(__file__).parent.parent / "fastbearing" / "catalogue"
 QJ210 = fb.load_bearing(DATA / "QJ210.toml")
 N = QJ210.rows[0].n_balls
 

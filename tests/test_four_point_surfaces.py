@@ -20,7 +20,7 @@ from conftest import cli_run
 import fastbearing as fb
 from fastbearing.model.four_point import FourPointRow
 
-DATA = Path(__file__).parent.parent / "data" / "bearings"
+DATA = Path(__file__).parent.parent / "fastbearing" / "catalogue"
 QJ210_FILE = DATA / "QJ210.toml"
 QJ210 = fb.load_bearing(QJ210_FILE)
 ROW = dict(n_balls=12, hertz_constant=3e5, pitch_radius=30.0, groove_center_distance=0.5, contact_angle=30.0)

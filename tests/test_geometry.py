@@ -20,7 +20,7 @@ lm = importlib.import_module("fastbearing.jobs.loadmap")     # the package re-ex
 ps = importlib.import_module("fastbearing.jobs.passage")
 
 ROOT = Path(__file__).resolve().parents[1]
-BEARINGS = ROOT / "data" / "bearings"
+BEARINGS = ROOT / "fastbearing" / "catalogue"
 
 STEEL_210 = fb.Material("steel", 210000.0, 0.3)
 E_STAR = 210000.0 / (2 * (1 - 0.3 ** 2))          # 1/E* = (1-nu1^2)/E1 + (1-nu2^2)/E2
@@ -409,14 +409,14 @@ def run(*args):
 
 
 def test_cli_bearing_prints_derived_parameters_with_units():
-    p = run("bearing", f"{ROOT}/data/bearings/6305.toml")
+    p = run("bearing", f"{ROOT}/fastbearing/catalogue/6305.toml")
     assert p.returncode == 0, p.stderr
     g = fb.load_bearing(BEARINGS / "6305.toml").geometry
     out = p.stdout
     assert f"Kn = {g.hertz_constant:.6g} N/mm^1.5" in out
     assert "A0 = 0.575 mm" in out and "R  = 21.98 mm" in out and "rL = 0.005 mm" in out
     assert f"af = {math.degrees(g.free_contact_angle):.6g} deg ({g.free_contact_angle:.6g} rad)" in out
-    p = run("bearing", f"{ROOT}/data/bearings/3210.toml", "--json")
+    p = run("bearing", f"{ROOT}/fastbearing/catalogue/3210.toml", "--json")
     rep = json.loads(p.stdout)
     g = fb.load_bearing(BEARINGS / "3210.toml").geometry
     assert rep["load_centre_spread"] == pytest.approx(g.load_centre_spread("DB"))
@@ -424,7 +424,7 @@ def test_cli_bearing_prints_derived_parameters_with_units():
 
 
 def test_cli_solve_balls_json_end_to_end_on_a_shipped_bearing():
-    p = run("solve", "--bearing", f"{ROOT}/data/bearings/6305.toml", "--load", "1000,0,0,0,0", "--balls", "--json")
+    p = run("solve", "--bearing", f"{ROOT}/fastbearing/catalogue/6305.toml", "--load", "1000,0,0,0,0", "--balls", "--json")
     assert p.returncode == 0, p.stderr
     out = json.loads(p.stdout)
     assert out["q"][0] * 1e3 == pytest.approx(21.223, rel=1e-3)      # reference example 3 (see above)

@@ -24,7 +24,7 @@ from naive import bearing_load_extended
 import fastbearing as fb
 from fastbearing import status as st
 
-BEARINGS = Path(__file__).resolve().parents[1] / "data" / "bearings"
+BEARINGS = Path(__file__).resolve().parents[1] / "fastbearing" / "catalogue"
 
 RTOL = 1e-10
 VARIANTS = {"plain": {}, "clearance": {"radial_clearance": 0.01}, "preload": {"axial_preload": 0.01},

@@ -18,7 +18,7 @@ from fastbearing.engine import high_speed as hs
 from fastbearing.engine import schema
 from fastbearing.analysis.contacts import ball_contacts
 
-DATA = Path(__file__).parent.parent / "data" / "bearings"
+DATA = Path(__file__).parent.parent / "fastbearing" / "catalogue"
 SPINDLE = fb.load_bearing(DATA / "7014C-DB.toml")
 GEOMETRY = SPINDLE.geometry
 BALL_FILES = ("6305.toml", "3206.toml", "3208.toml", "3210.toml", "3306.toml", "3310.toml", "7014C-DB.toml")

@@ -189,7 +189,7 @@ def test_kernels_without_reference_counting_never_return_arrays(tmp_path):
     from fastbearing.engine import solver
     from fastbearing.engine import sweep
 
-    bearings = PACKAGE.parent / "data" / "bearings"
+    bearings = PACKAGE.parent / "fastbearing" / "catalogue"
     fb.solve(fb.Bearing.preset("gunduz2013", "DB"), [100.0, 0.0, 500.0, 0.0, 1e3])
     fb.solve(fb.load_bearing(bearings / "7014C-DB.toml"), [100.0, 0.0, 500.0, 0.0, 1e3], speed=12000.0)
     fb.solve(fb.load_bearing(bearings / "30206-TDO.toml"), [1000.0, 0.0, 500.0, 0.0, 0.0])

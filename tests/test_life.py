@@ -15,7 +15,7 @@ import fastbearing as fb
 from fastbearing.analysis import life as L
 from fastbearing.model.geometry import Material
 
-BEARINGS = Path(__file__).resolve().parents[1] / "data" / "bearings"
+BEARINGS = Path(__file__).resolve().parents[1] / "fastbearing" / "catalogue"
 STEEL_210 = Material("steel-210", 210000.0, 0.3)
 
 

@@ -14,7 +14,7 @@ from fastbearing.model.mounted import operating_bearing
 from conftest import cli_run
 
 ROOT = Path(__file__).resolve().parents[1]
-BEARINGS = sorted((ROOT / "data" / "bearings").glob("*.toml"))
+BEARINGS = sorted((ROOT / "fastbearing" / "catalogue").glob("*.toml"))
 
 GEOMETRY_6205 = {"n_balls": 9, "ball_diameter": 7.938, "pitch_diameter": 38.5, "inner_groove_ratio": 0.52,
                  "outer_groove_ratio": 0.53, "diametral_clearance": "CN", "bore": 25.0, "outer_diameter": 52.0,
@@ -50,13 +50,13 @@ def bearing_6205(geometry=None, mounting=None, **top):
 
 
 def bearing_7014(arrangement, mounting):
-    table = read_toml(ROOT / "data/bearings/7014C-DB.toml")["bearing"]
+    table = read_toml(ROOT / "fastbearing/catalogue/7014C-DB.toml")["bearing"]
     return bearing_from_table({**table, "arrangement": arrangement, "mounting": mounting})
 
 
 def unmounted_twin(bearing, budget):
     """The same bearing file with the reported operating clearance and preload typed as plain numbers."""
-    doc = read_toml(ROOT / "data/bearings/7014C-DB.toml")["bearing"] if bearing.name.startswith("7014") else None
+    doc = read_toml(ROOT / "fastbearing/catalogue/7014C-DB.toml")["bearing"] if bearing.name.startswith("7014") else None
     rows = budget["rows"]
     if doc is None:
         geometry = {**GEOMETRY_6205, "diametral_clearance": rows[0]["operating_diametral_clearance"]}
@@ -216,9 +216,9 @@ def test_cli_solve_says_the_operating_clearance(tmp_path):
 
 
 def test_cli_solve_of_an_unmounted_bearing_prints_no_mounting_line():
-    run = cli_run("solve", "--bearing", ROOT / "data/bearings/6205.toml", "--load", "1000,0,0,0,0")
+    run = cli_run("solve", "--bearing", ROOT / "fastbearing/catalogue/6205.toml", "--load", "1000,0,0,0,0")
     assert run.returncode == 0 and "operating clearance" not in run.stdout
-    js = json.loads(cli_run("solve", "--bearing", ROOT / "data/bearings/6205.toml", "--load", "1000,0,0,0,0",
+    js = json.loads(cli_run("solve", "--bearing", ROOT / "fastbearing/catalogue/6205.toml", "--load", "1000,0,0,0,0",
                             "--json").stdout)
     assert "operating" not in js
 
@@ -330,7 +330,7 @@ def test_a_shaft_carries_a_mounted_bearing_at_its_operating_clearance(tmp_path):
 
 
 def test_tapered_pair_preload_follows_the_shaft_temperature():
-    table = read_toml(ROOT / "data/bearings/30206-TDO.toml")["bearing"]
+    table = read_toml(ROOT / "fastbearing/catalogue/30206-TDO.toml")["bearing"]
     cold = bearing_from_table({**table, "mounting": {"shaft_interference": -0.05}})
     warm = bearing_from_table({**table, "mounting": {"shaft_interference": -0.05, "shaft_temperature": 40.0}})
     d_cold = [r.axial_preload for r in operating_bearing(cold, 0.0)[0].rows]

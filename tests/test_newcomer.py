@@ -13,7 +13,7 @@ import pytest
 import fastbearing as fb
 from conftest import cli_run
 
-DATA = Path(__file__).parents[1] / "data" / "bearings"
+DATA = Path(__file__).parents[1] / "fastbearing" / "catalogue"
 
 
 def test_a_life_map_at_speed_stores_iso_l10_hours_and_the_outer_contact_angles(tmp_path):

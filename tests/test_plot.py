@@ -309,7 +309,7 @@ def test_the_load_zone_of_a_roller_bearing_speaks_of_rollers():
     bearing once called its rollers balls (issue 39)."""
     from pathlib import Path
 
-    bearing = fb.load_bearing(Path(__file__).parents[1] / "data" / "bearings" / "NU205.toml")
+    bearing = fb.load_bearing(Path(__file__).parents[1] / "fastbearing" / "catalogue" / "NU205.toml")
     q = fb.solve(bearing, [3000.0, 0.0, 0.0, 0.0, 0.0]).q
     fig = plot.plot_load_zone(bearing, q, size=(600, 400))
     texts = [t.get_text() for t in fig.legends[0].get_texts()]
@@ -332,7 +332,7 @@ def test_every_text_of_a_roller_load_zone_speaks_of_rollers_and_degrees(tmp_path
     balls, and the azimuth in degrees (issue 39, item 6)."""
     from pathlib import Path
 
-    bearing = fb.load_bearing(Path(__file__).parents[1] / "data" / "bearings" / "NU205.toml")
+    bearing = fb.load_bearing(Path(__file__).parents[1] / "fastbearing" / "catalogue" / "NU205.toml")
     fig = plot.plot_load_zone(bearing, fb.solve(bearing, [3000.0, 0.0, 0.0, 0.0, 0.0]).q)
     texts = [t.get_text() for t in fig.findobj(lambda a: hasattr(a, "get_text"))]
     texts += [t.get_text() for ax in fig.axes for t in ax.get_xticklabels() + ax.get_yticklabels()]
@@ -349,7 +349,7 @@ def test_a_four_point_load_zone_names_its_balls():
     """A four-point row's contact pairs say "balls (one contact pair)": its singular is still "ball"."""
     from pathlib import Path
 
-    bearing = fb.load_bearing(Path(__file__).parents[1] / "data" / "bearings" / "QJ210.toml")
+    bearing = fb.load_bearing(Path(__file__).parents[1] / "fastbearing" / "catalogue" / "QJ210.toml")
     fig = plot.plot_load_zone(bearing, fb.solve(bearing, [3000.0, 0.0, 1000.0, 0.0, 0.0]).q, size=(800, 520))
     texts = [t.get_text() for t in fig.legends[0].get_texts()]
     assert texts[0].startswith("loaded ball (") and texts[1].startswith("ball positions: every ball of")

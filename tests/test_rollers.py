@@ -268,14 +268,14 @@ def test_roller_rows_from_catalogue_geometry():
 
 def test_shipped_roller_bearings_and_shafts():
     for name in ("NU205", "30206", "30206-TDO"):
-        b = fb.load_bearing(DATA / "bearings" / f"{name}.toml")
+        b = fb.load_bearing(DATA.parent / "fastbearing" / "catalogue" / f"{name}.toml")
         assert b.roller_rows and b.geometry is not None
-    nu = fb.load_bearing(DATA / "bearings" / "NU205.toml")
+    nu = fb.load_bearing(DATA.parent / "fastbearing" / "catalogue" / "NU205.toml")
     r = fb.solve(nu, [5000.0, 0, 0, 0, 0])
     assert r.converged and abs(r.K[2, 2]) < 1e-9 * r.K[0, 0]
     axial = fb.solve(nu, [5000.0, 0, 1000.0, 0, 0])                   # a cylindrical row holds no axial load
     assert axial.status_name == "singular"
-    pair = fb.load_bearing(DATA / "bearings" / "30206-TDO.toml")
+    pair = fb.load_bearing(DATA.parent / "fastbearing" / "catalogue" / "30206-TDO.toml")
     assert pair.arrangement == "TDO" and fb.solve(pair, [8000.0, 0, 2000.0, 0, 1e5]).converged
     from fastbearing.analysis.shaft import read_shaft, solve_shaft
 
@@ -311,17 +311,17 @@ def test_slice_record_edge_loading_and_line_contact_pressure():
     assert (rc.outer_max_pressure[loaded] < rc.inner_max_pressure[loaded]).all()
     from conftest import cli_run
 
-    text = cli_run("solve", "--bearing", DATA / "bearings" / "NU205.toml", "--load", "5000,0,0,0,2e4", "--balls").stdout
+    text = cli_run("solve", "--bearing", DATA.parent / "fastbearing" / "catalogue" / "NU205.toml", "--load", "5000,0,0,0,2e4", "--balls").stdout
     assert "rollers (psi azimuth" in text and "p_in(MPa)" in text
 
 
 # -- preload of tapered pairs (issue 33) ---------------------------------------------------------------
 
 def shipped_pair(arrangement):
-    """data/bearings/30206-TDO.toml as shipped (d0 = 0.005 mm per row), or the same file face to face."""
+    """fastbearing/catalogue/30206-TDO.toml as shipped (d0 = 0.005 mm per row), or the same file face to face."""
     import tomllib
 
-    doc = tomllib.loads((DATA / "bearings" / "30206-TDO.toml").read_text())
+    doc = tomllib.loads((DATA.parent / "fastbearing" / "catalogue" / "30206-TDO.toml").read_text())
     doc["bearing"]["arrangement"] = arrangement
     return fb.bearing_from_table(doc["bearing"])
 
@@ -407,7 +407,7 @@ def test_bounds_name_what_the_bearing_file_says(tmp_path):
     """In a geometry file the user types diametral_clearance (Pd = 2 rL) and [bearing] axial_preload: the
     refusals name those keys and their bounds (l = 12 mm, a = 13.86 deg: Pd >= -0.12 / cos(a) mm,
     d0 <= 0.06 / sin(a) mm); every shipped roller file is within them."""
-    text = (DATA / "bearings" / "30206-TDO.toml").read_text()
+    text = (DATA.parent / "fastbearing" / "catalogue" / "30206-TDO.toml").read_text()
     a = math.radians(13.86)
     for old, new, words in (
             ("diametral_clearance = 0.0", "diametral_clearance = -10.0",
@@ -419,7 +419,7 @@ def test_bounds_name_what_the_bearing_file_says(tmp_path):
         path.write_text(text.replace(old, new))
         with pytest.raises(ValueError, match=words):
             fb.load_bearing(path)
-    for path in sorted((DATA / "bearings").glob("*.toml")):
+    for path in sorted((DATA.parent / "fastbearing" / "catalogue").glob("*.toml")):
         fb.load_bearing(path)
 
 
@@ -437,7 +437,7 @@ def test_a_single_tapered_row_under_a_pure_radial_load_says_why_it_has_no_soluti
     `status: singular`, dx = 179 mm, dz = -727 mm and a Kb); with enough axial load it solves."""
     from conftest import cli_run
 
-    path = Path(__file__).parents[1] / "data" / "bearings" / "30206.toml"
+    path = Path(__file__).parents[1] / "fastbearing" / "catalogue" / "30206.toml"
     b = fb.load_bearing(path)
     r = fb.solve(b, [5000.0, 0, 0, 0, 0])
     need = 5000.0 * math.tan(math.radians(b.rows[0].contact_angle))

@@ -129,7 +129,7 @@ def test_a_deep_groove_row_has_no_contact_direction_to_reverse():
     """A 0 deg row's balls take either shoulder: the 6305 under a radial load with a little axial load was
     flagged contact_reversed for a ball at -0.13 deg (issue 33), at rest and at speed; an angular contact
     row still is (above)."""
-    b = fb.load_bearing(Path(__file__).parents[1] / "data" / "bearings" / "6305.toml")
+    b = fb.load_bearing(Path(__file__).parents[1] / "fastbearing" / "catalogue" / "6305.toml")
     for speed in (0.0, 6000.0):
         r = fb.solve(b, [1500.0, 0.0, 100.0, 0.0, 0.0], speed=speed)
         assert r.status_name == "converged", (speed, r.status_name)
@@ -280,7 +280,7 @@ def test_the_stiffness_solve_takes_ldl_for_a_symmetric_kb_and_lu_for_kb_at_speed
         assert not stiffness_solve(A, 0.0, b, x, L, perm), k
         A[k, k] = np.nan
         assert not stiffness_solve(A, 0.0, b, x, L, perm), k
-    spindle = Path(__file__).parent.parent / "data" / "bearings" / "7014C-DB.toml"
+    spindle = Path(__file__).parent.parent / "fastbearing" / "catalogue" / "7014C-DB.toml"
     _, K = fb.stiffness(fb.load_bearing(spindle), [0.01, 0.0, 0.02, 1e-4, 0.0],
                         speed=15000.0)
     assert not np.array_equal(K, K.T)  # why LU: Kb at speed is not symmetric

@@ -14,7 +14,7 @@ from fastbearing import status as st
 from fastbearing.model.geometry import CONTACT_PRESSURE_LIMIT
 
 ROOT = __import__("pathlib").Path(__file__).resolve().parents[1]
-B6305 = ROOT / "data" / "bearings" / "6305.toml"
+B6305 = ROOT / "fastbearing" / "catalogue" / "6305.toml"
 
 
 def test_absurd_load_is_flagged_and_an_ordinary_one_is_not():

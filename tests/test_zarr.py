@@ -18,7 +18,7 @@ from fastbearing.jobs import zarr_store  # noqa: E402
 from pathlib import Path  # noqa: E402
 
 #: A bearing with geometry, so that the map carries the life variables too.
-BEARING = str(Path(__file__).resolve().parents[1] / "data" / "bearings" / "7014C-DB.toml")
+BEARING = str(Path(__file__).resolve().parents[1] / "fastbearing" / "catalogue" / "7014C-DB.toml")
 CONFIG = {"bearing": BEARING,
           "loadmap": {"Fx": {"start": -2000.0, "stop": 2000.0, "num": 12}, "Fz": {"start": 500.0, "stop": 10000.0,
                       "num": 10}, "My": {"start": -1.0e5, "stop": 1.0e5, "num": 33}, "chunk": 600, "life": True}}

@@ -25,6 +25,7 @@ from ..dofs import DISPLACEMENT_NAMES
 from .. import validate
 from ..model.bearing import Bearing, check_speed, check_speed_model
 from ..model.bearing_file import bearing_from_table, load_bearing, read_toml
+from ..model.catalogue import find_bearing_file
 from ..model.mounted import operating
 
 
@@ -306,11 +307,8 @@ def read_shaft(config) -> Shaft:
         where = f"shaft.bearings[{i}]"
         v.table(b, where, _BEARING_KEYS, ("position", "bearing"))
         source = b["bearing"]
-        if isinstance(source, str):
-            path = Path(source)
-            if base is not None and not path.is_absolute():
-                path = base / path
-            bearing = load_bearing(path)
+        if isinstance(source, str):  # a bearing file (relative to the config) or a shipped bearing's name
+            bearing = load_bearing(find_bearing_file(source, base, f"{where}.bearing"))
         elif isinstance(source, dict):
             bearing = bearing_from_table(source, where=f"{where}.bearing")
         else:

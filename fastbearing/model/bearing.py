@@ -10,10 +10,8 @@ catalogues and bearing files.
 from __future__ import annotations
 
 import math
-import tomllib
 from dataclasses import dataclass, fields, replace
 from functools import cached_property
-from importlib import resources
 
 import numpy as np
 
@@ -26,6 +24,7 @@ from ..engine.schema import (A0, AXIAL_OFFSET, BALL_OF, COS_NOMINAL, COS_PSI, DE
 from .ball_row import (MAX_BALLS, PRELOAD_DEFLECTION_LIMIT, VALIDITY_DEFLECTION, Row, _check_finite,  # noqa: F401
                        free_contact_angle)
 from .four_point import ELEMENT as FOUR_POINT, FourPointRow, check_pairs, expand, merged, partner_columns
+from .catalogue import catalogue_table, preset_names  # noqa: F401 (preset_names is public here)
 from .rollers import (N_SLICE_COLUMNS, REQUIRED_ROLLER_KEYS, ROLLER_ELEMENTS, ROLLER_KEYS, RollerRow,
                       radial_load_note, slice_table)
 
@@ -121,8 +120,8 @@ class Bearing:
     A bearing built from rows of your own (:meth:`from_rows`: duplex,
     triplex, quadruplex sets) has ``arrangement == "custom"``.
 
-    Presets (:meth:`preset`; :func:`fastbearing.preset_names` lists them,
-    the tables are in fastbearing/presets/):
+    Presets (:meth:`preset`; :func:`fastbearing.preset_names` lists them):
+    the shipped bearing files given by model parameters (fastbearing/catalogue/).
 
     ``"gunduz2013"``
         The example double-row bearing of Gunduz & Singh (2013), Table 1:
@@ -130,13 +129,12 @@ class Bearing:
         e = 10 mm, a0 = 30 deg, no clearance or preload; DB unless another
         arrangement is given.
 
-    Bearing files in the repository's data/bearings/ (read them with
-    :func:`fastbearing.load_bearing`): gunduz2013.toml (the preset as a
-    file); 6305.toml (a single-row deep-groove bearing) and 3206.toml,
-    3208.toml, 3210.toml, 3306.toml, 3310.toml (SKF double-row angular
-    contact bearings, 30 deg, DB), given by catalogue geometry
-    (:class:`fastbearing.Geometry`); each file says which internal
+    Every shipped bearing file, the presets included, is read by name with
+    :func:`fastbearing.load_bearing` (``fb.load_bearing("6205")``) from any
+    folder; the others are given by catalogue geometry
+    (:class:`fastbearing.Geometry`), and each file says which internal
     dimensions are published and which are estimated or assumed.
+    `fastbearing bearings` (:func:`fastbearing.shipped_bearings`) lists them.
     """
 
     rows: tuple[Row, ...]
@@ -524,16 +522,10 @@ _COMPACT_KEYS = set(SHARED_ROW_KEYS) | set(ROLLER_KEYS) | {"arrangement", "row_o
 ALL_ROW_KEYS = tuple(sorted(set(ROW_KEYS) | set(ROLLER_KEYS)))
 
 
-def preset_names() -> list[str]:
-    """Names of the shipped presets (model-parameter tables in fastbearing/presets/)."""
-    return sorted(p.name[:-5] for p in resources.files("fastbearing.presets").iterdir() if p.name.endswith(".toml"))
-
-
 def preset_table(name: str) -> dict:
-    """A copy of a shipped preset's ``[bearing]`` table."""
+    """A copy of a shipped preset's ``[bearing]`` table (a catalogue file given by model parameters)."""
     validate.choice(name, "preset", preset_names())
-    text = resources.files("fastbearing.presets").joinpath(f"{name}.toml").read_text()
-    return dict(tomllib.loads(text)["bearing"])
+    return catalogue_table(name)
 
 
 def check_keys(table: dict, allowed, where: str) -> None:

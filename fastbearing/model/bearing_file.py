@@ -1,10 +1,12 @@
-"""Bearing files (TOML ``[bearing]`` tables) and shipped presets.
+"""Bearing files (TOML ``[bearing]`` tables), the shipped ones by name, and presets.
 
 The ``[bearing]`` table is the public format: either the compact form
 (``arrangement`` plus the row keys shared by all rows) or a general set of
 ``[[bearing.rows]]``. ``preset = "NAME"`` starts from a shipped bearing and
 any other key overrides it. A ``[bearing.geometry]`` sub-table defines the
 rows from catalogue geometry instead (:mod:`fastbearing.model.geometry`).
+Wherever a bearing file is asked for, the name of a shipped one (``"6205"``;
+:mod:`fastbearing.model.catalogue`) does as well.
 """
 
 from __future__ import annotations
@@ -15,9 +17,11 @@ from pathlib import Path
 
 from .. import validate
 from .bearing import SHARED_ROW_KEYS, Bearing, preset_names, preset_table
+from .catalogue import catalogue_names, find_bearing_file
 from .geometry import geometry_from_table
 from .mounted import Mounting, clearance_spec, mounting_from_table
-from .rollers import ROLLER_KEYS
+from .four_point import ELEMENT as FOUR_POINT
+from .rollers import ROLLER_ELEMENTS, ROLLER_KEYS
 
 _TABLE_KEYS = set(SHARED_ROW_KEYS) | set(ROLLER_KEYS) | {"arrangement", "row_offset", "axial_preload", "preset", "name", "rows", "geometry", "mounting"}
 #: Keys a [bearing.geometry] table derives; giving them in [bearing] too would be ambiguous.
@@ -26,7 +30,8 @@ _GEOMETRY_DERIVED = ("n_balls", "hertz_constant", "pitch_radius", "groove_center
 #: Row keys that stay per row when the rows share one geometry.
 _GEOMETRY_ROW_KEYS = ("axial_offset", "contact_direction", "axial_preload", "first_ball_angle", "first_element_angle")
 
-__all__ = ["bearing_from_table", "load_bearing", "preset_bearing", "preset_names", "read_job_config", "read_toml"]
+__all__ = ["bearing_from_table", "catalogue_names", "load_bearing", "preset_bearing", "preset_names", "read_job_config",
+           "read_toml"]
 
 
 def preset_bearing(name: str, arrangement: str | None = None, **overrides) -> Bearing:
@@ -78,7 +83,21 @@ def _geometry_bearing(table: dict, where: str) -> Bearing:
         spec = dict(spec)
         spec["diametral_clearance"], group, clearance_range = clearance_spec(spec["diametral_clearance"], spec,
                                                                               f"{where}.geometry")
-    if isinstance(spec, dict) and spec.get("element", "ball") != "ball":
+    if isinstance(spec, dict) and "element" in spec and spec["element"] not in ROLLER_ELEMENTS:
+        # a ball geometry has no element key: four-point rows say so in [bearing] (as QJ210.toml does)
+        rollers = f"[{where}.geometry] takes element only for a roller geometry, {list(ROLLER_ELEMENTS)}"
+        four_point = f'element = "{FOUR_POINT}" in the [{where}] table'
+        if spec["element"] == FOUR_POINT:
+            say = (f"belongs in the [{where}] table (beside arrangement), not in [{where}.geometry]: "
+                   f"{four_point} makes the geometry's ball rows four-point rows; {rollers}")
+        elif spec["element"] == "ball":
+            say = (f"is not needed: a ball geometry makes ball rows (leave element out; {four_point} makes "
+                   f"them four-point rows); {rollers}")
+        else:
+            say = (f"must be one of {list(ROLLER_ELEMENTS)} (a roller geometry); for ball rows leave it out, "
+                   f"for four-point rows give {four_point}")
+        raise validate.FieldError(f"{where}.geometry.element", say, spec["element"])
+    if isinstance(spec, dict) and "element" in spec:
         from .roller_geometry import roller_geometry_from_table
 
         clash = [k for k in ("element", "n_rollers", "roller_effective_length", "slices", "crown", "crown_radius",
@@ -139,7 +158,10 @@ def read_toml(path) -> dict:
 
 
 def load_bearing(path) -> Bearing:
-    """Read a bearing file: a TOML file with one ``[bearing]`` table (units N, mm, degrees)."""
+    """Read a bearing file: a TOML file with one ``[bearing]`` table (units N, mm, degrees), given by its path
+    or, for a shipped one, by name (``load_bearing("6205")``; :func:`catalogue_names` lists them). A path
+    that exists wins over a shipped name; neither: ValueError listing the shipped names."""
+    path = find_bearing_file(path)
     doc = read_toml(path)
     unknown = sorted(set(doc) - {"bearing"})
     if unknown:
@@ -151,8 +173,9 @@ def load_bearing(path) -> Bearing:
 
 def read_job_config(config, job: str):
     """A ``[bearing]`` + ``[JOB]`` config (TOML path or parsed dict), checked the same way for every job.
-    ``bearing`` may instead name a bearing file (``bearing = "data/bearings/7014C-DB.toml"``), relative to
-    the config's folder (to the current folder for a dict); its text joins the config's in the provenance.
+    ``bearing`` may instead name a bearing file (``bearing = "my-bearing.toml"``), relative to the config's
+    folder (to the current folder for a dict), or a shipped one by name (``bearing = "7014C-DB"``); its text
+    joins the config's in the provenance.
 
     Returns (bearing, the job's table, the config text, the source path or None).
     """
@@ -172,12 +195,7 @@ def read_job_config(config, job: str):
             raise ValueError(f"missing the [{table}] table")
     if not isinstance(doc[job], dict):
         raise ValueError(f"{job} must be a table")
-    if isinstance(doc["bearing"], str):  # bearing = "FILE.toml": a bearing file, relative to the config
-        path = Path(doc["bearing"])
-        if source is not None and not path.is_absolute():
-            path = source.parent / path
-        if not path.is_file():
-            raise ValueError(f"bearing = {doc['bearing']!r}: no bearing file at {path}"
-                             + (" (a path is taken relative to the config's folder)" if source is not None else ""))
+    if isinstance(doc["bearing"], str):  # bearing = "FILE.toml" (relative to the config) or a shipped NAME
+        path = find_bearing_file(doc["bearing"], None if source is None else source.parent)
         return load_bearing(path), doc[job], text + "\n# bearing file " + str(path) + "\n" + path.read_text(), source
     return bearing_from_table(doc["bearing"]), doc[job], text, source
