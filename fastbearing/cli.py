@@ -28,6 +28,8 @@ from .report.plot import NORMALISE, PASSAGE_X
 
 EXIT_USAGE = 2
 
+_BEARING_HELP = "a shipped bearing by name (fastbearing bearings lists them) or a bearing file"
+
 _K_UNITS = "N/mm among x, y, z; N*mm/rad among tx, ty; N/rad between the two"
 
 
@@ -72,8 +74,11 @@ def json_text(obj) -> str:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = _Parser(prog="fastbearing", description="Stiffness matrices of angular contact ball bearings "
-                     "(Gunduz & Singh 2013). Units: N, mm, rad.")
+    parser = _Parser(prog="fastbearing", description=(
+        "Stiffness matrices (5x5 Kb) of rolling bearings: deep-groove, angular contact (single, DB, DF, DT) and "
+        "four-point ball bearings, cylindrical and tapered roller bearings (TDO, TDI), at rest and at shaft speed; "
+        "load maps of millions of cases, ball-passage tables, defects and fault frequencies, ISO 281 life, shafts "
+        "on several bearings, mounting, and exports to Nastran DMIG, ROSS and CSV. Units: N, mm, rad."))
     from . import __version__
 
     parser.add_argument("--version", action="version", version=f"fastbearing {__version__}")
@@ -85,7 +90,7 @@ def build_parser() -> argparse.ArgumentParser:
         "sign must be attached with '=': --load=-1000,0,3000,0,0"))
     which = p.add_mutually_exclusive_group(required=True)
     which.add_argument("--preset", choices=preset_names(), help="a shipped bearing (with --arrangement)")
-    which.add_argument("--bearing", metavar="FILE.toml", help="a bearing file with a [bearing] table")
+    which.add_argument("--bearing", metavar="NAME|FILE.toml", help=_BEARING_HELP)
     p.add_argument("--arrangement", choices=ARRANGEMENTS,
                    help="arrangement for --preset (default: the preset's own, DB for gunduz2013)")
     given = p.add_mutually_exclusive_group(required=True)
@@ -128,7 +133,7 @@ def build_parser() -> argparse.ArgumentParser:
                            "table the catalogue inputs and both race contacts. With --speed, also the fault "
                            "frequencies (FTF, BPFO, BPFI, BSF, ball defect = 2 BSF) in Hz and as orders of the "
                            "shaft speed, from the geometry's ball and pitch diameters and contact angle."))
-    b.add_argument("file", metavar="FILE.toml", help="a bearing file with a [bearing] table")
+    b.add_argument("file", metavar="NAME|FILE.toml", help=_BEARING_HELP)
     b.add_argument("--json", action="store_true", help="print one JSON object on stdout (with --speed: the fault "
                    "frequencies under fault_frequencies, name -> {hz, order}, and what they assume under "
                    "fault_frequency_conditions)")
@@ -139,6 +144,16 @@ def build_parser() -> argparse.ArgumentParser:
     b.add_argument("--load", metavar="Fx,Fy,Fz,Mx,My", help="with --speed: use the loaded contact angle at this load "
                    "on the inner ring (N, N, N, N*mm, N*mm; the mean over the loaded balls of a quasi-static solve) "
                    "instead of the nominal one")
+    c = sub.add_parser("bearings", help="the shipped bearings: type, d x D x B (mm), C, C0 (N) and where each "
+                       "comes from", description=(
+                           "List the bearings shipped with fastbearing (fastbearing/catalogue/NAME.toml): name, "
+                           "type, nominal contact angle (deg), boundary dimensions d x D x B (mm), basic load "
+                           "ratings C and C0 (N), and where each number comes from (the catalogue, or ISO 281 / "
+                           "ISO 76 from the file's geometry). Give a NAME wherever a bearing file is asked for: "
+                           "--bearing NAME, fastbearing bearing NAME, bearing = \"NAME\" in a config."))
+    c.add_argument("--json", action="store_true", help="print one JSON list, an object per bearing (name, type, "
+                   "element, arrangement, contact_angle_deg, bore, outer_diameter, width in mm, C, C0 in N, "
+                   "sources, units, file)")
     m = sub.add_parser("loadmap", help="Kb over a grid or table of loads or displacements, to HDF5 or zarr",
                        description=(
                            "Compute a load map: Kb (and q, f, status, load distribution) at every case of the "
@@ -379,7 +394,7 @@ def _add_plot_parsers(sub) -> None:
     common(z, file=False)
     which = z.add_mutually_exclusive_group(required=True)
     which.add_argument("--preset", choices=preset_names(), help="a shipped bearing (with --arrangement)")
-    which.add_argument("--bearing", metavar="FILE.toml", help="a bearing file with a [bearing] table")
+    which.add_argument("--bearing", metavar="NAME|FILE.toml", help=_BEARING_HELP)
     z.add_argument("--arrangement", choices=ARRANGEMENTS, help="arrangement for --preset")
     given = z.add_mutually_exclusive_group(required=True)
     given.add_argument("--load", metavar="Fx,Fy,Fz,Mx,My", help="load: N, N, N, N*mm, N*mm (solved for q)")
@@ -603,6 +618,15 @@ def _bearing_command(args) -> int:
         print(bearing_report_text(rep, bearing))
         if faults is not None:
             print(fault_frequency_text(faults))
+    return 0
+
+
+def _bearings(args) -> int:
+    """`fastbearing bearings [--json]`: the shipped bearings (fastbearing/catalogue/*.toml)."""
+    from .report.catalogue import shipped_bearings, shipped_bearings_text
+
+    entries = shipped_bearings()
+    print(json_text(entries) if args.json else shipped_bearings_text(entries))
     return 0
 
 
@@ -840,7 +864,8 @@ def main(argv=None) -> int:
         with CompileWatch(), warnings.catch_warnings():
             warnings.showwarning = _show_warning
             return {"solve": _solve, "bearing": _bearing_command, "loadmap": _loadmap, "passage": _passage,
-                    "plot": _plot, "paper": _paper, "shaft": _shaft, "export": _export}[args.command](args)
+                    "plot": _plot, "paper": _paper, "shaft": _shaft, "export": _export,
+                    "bearings": _bearings}[args.command](args)
     except DiskFull as err:
         print(str(err), file=sys.stderr)
         return 1
@@ -867,7 +892,7 @@ def main(argv=None) -> int:
         return EXIT_USAGE
 
 
-_COMMANDS = ("solve", "bearing", "loadmap", "passage", "plot", "paper", "shaft", "export")
+_COMMANDS = ("solve", "bearing", "bearings", "loadmap", "passage", "plot", "paper", "shaft", "export")
 
 
 #: The commands that run kernels (and so start numba's compiler contexts).
