@@ -487,13 +487,15 @@ def _shaft(args) -> int:
     if out.get("fixed"):
         print(f"fixed at the reference: {', '.join(out['fixed'])}; the holder's reaction there (N, N, N, N*mm, N*mm) "
               + "  ".join(f"{v:.6g}" for v in out["holder_reaction"]))
+    from .report.export import noise_as_zero
+
     print(_matrix("K_system at the reference", result.K_system))
     for i, b in enumerate(result.bearings):
         name = shaft.bearings[i].name or f"bearing {i}"
         print(f"{name} at z = {b.position:g} mm: reaction (N, N, N, N*mm, N*mm) "
               + "  ".join(f"{v:.6g}" for v in b.reaction))
         print("  q (mm, rad): " + "  ".join(f"{v:.6g}" for v in b.q))
-        print("  Kb diagonal (N/mm, N/mm, N/mm, N*mm/rad, N*mm/rad): " + "  ".join(f"{v:.6g}" for v in np.diag(b.K)))
+        print("  Kb diagonal (N/mm, N/mm, N/mm, N*mm/rad, N*mm/rad): " + "  ".join(f"{v:.6g}" for v in np.diag(noise_as_zero(b.K))))
         if "life" in out["bearings"][i]:
             lf = out["bearings"][i]["life"]
             print(f"  life: L10r = {lf['L10r']:.6g} million revolutions (ISO/TS 16281); L10 = "
@@ -511,7 +513,10 @@ def _shaft(args) -> int:
 def _matrix(title, K) -> str:
     labels = ("x", "y", "z", "tx", "ty")
     lines = [f"{title} ({_K_UNITS}):", "      " + "".join(f"{n:>14s}" for n in labels)]
-    for name, row in zip(labels, np.asarray(K) + 0.0):  # + 0.0: an exact zero coupling shows as 0, not -0
+    from .report.export import noise_as_zero
+
+    # round-off (an entry below 1e-12 of its row's largest) shows as 0, and an exact zero as 0, not -0
+    for name, row in zip(labels, noise_as_zero(K)):
         lines.append(f"{name:>4s}  " + "".join(f"{v:14.6g}" for v in row))
     return "\n".join(lines)
 

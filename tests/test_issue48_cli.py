@@ -35,3 +35,33 @@ def test_help_says_what_fastbearing_is_and_that_a_name_does():
         assert "NAME|FILE.toml" in help_text and "fastbearing bearings lists them" in help_text, command
     loadzone = sub["plot"]._subparsers._group_actions[0].choices["loadzone"]
     assert "NAME|FILE.toml" in loadzone.format_help()
+
+
+# -- item 7: zeros printed as zeros --------------------------------------------------------------------------
+
+def test_noise_prints_as_zero_and_is_no_dropped_coupling():
+    import warnings
+
+    import numpy as np
+
+    from fastbearing.report.export import noise_as_zero, ross_arguments, ross_dropped
+
+    K = np.diag([2.0e5, 2.0e5, 5.0e4, 3.0e7, 3.0e7])
+    K[0, 1] = 1e-26          # round-off on an exact zero
+    K[2, 3] = -1e-9          # noise: 2e-14 of its row's largest (5e4)
+    K[3, 4] = 5.0e3          # a real coupling (1.7e-4 of its row's largest): kept
+    Z = noise_as_zero(K)
+    assert Z[0, 1] == 0 and Z[2, 3] == 0 and Z[3, 4] == 5.0e3 and np.array_equal(np.diag(Z), np.diag(K))
+    assert not np.signbit(noise_as_zero(np.full((5, 5), -0.0))).any()
+    assert noise_as_zero(np.stack([K, K])).shape == (2, 5, 5)
+    text = cli._matrix("Kb", K)
+    assert "1e-26" not in text and "e-09" not in text and "5000" in text
+    # ROSS: only round-off beyond its kept entries -> no warning
+    clean = np.diag([2.0e5, 2.0e5, 5.0e4, 0.0, 0.0])
+    clean[0, 3] = 1e-20
+    clean[2, 0] = 1e-13
+    assert not ross_dropped(clean)[1]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        ross_arguments(clean)
+    assert ross_dropped(K)[1]  # the tilt stiffness is real: still said

@@ -42,6 +42,22 @@ KB_CENTRE = "the bearing centre"
 ROSS_NOTES = ("units", "matrix", "dropped")
 
 
+#: An entry below this fraction of its row's largest |entry| is round-off noise (an exact zero computed as
+#: 1e-26, say): printed as 0 and not reported as a coupling ROSS drops.
+NOISE = 1e-12
+
+
+def noise_as_zero(K, rel: float = NOISE) -> np.ndarray:
+    """A copy of ``K`` (5x5, or N x 5 x 5; any units) with every entry whose magnitude is below ``rel`` times
+    the largest magnitude of its row set to 0 (and -0 to 0): the matrix as printed. A row that is all zero
+    stays so; non-finite entries are kept as they are."""
+    K = np.array(K, dtype=float)
+    finite = np.isfinite(K)
+    scale = np.max(np.where(finite, np.abs(K), 0.0), axis=-1, keepdims=True)
+    K[finite & (np.abs(K) < rel * scale)] = 0.0
+    return K + 0.0
+
+
 def units_suffix(units: str) -> str:
     """A unit as a column-name suffix that pandas and numpy.genfromtxt(names=True) keep as it is:
     "N*mm/rad" -> "_N_mm_per_rad", "N" -> "_N"; "1" or "" (a count or an index) -> ""."""
@@ -570,8 +586,9 @@ def ross_dropped(K) -> tuple[str, bool]:
     dropped entry is non-zero: the couplings to the axial dof z (kxz, kzx, kyz, kzy; largest |k| in N/mm
     and in % of the largest kept diagonal kxx, kyy, kzz), the tilt stiffness (ktxtx ... ktyty; largest |k|
     in N*mm/rad) and the 12 translation-tilt couplings (kxtx ... ktyz; largest |k| in N/rad and, as a
-    dimensionless size, the largest |k_ij| / sqrt(k_ii k_jj) in %)."""
-    k = _as_matrices(K)[0]
+    dimensionless size, the largest |k_ij| / sqrt(k_ii k_jj) in %). An entry below :data:`NOISE` times its
+    row's largest |entry| counts as 0 (:func:`noise_as_zero`): round-off is not a dropped coupling."""
+    k = noise_as_zero(_as_matrices(K)[0])  # round-off couplings (1e-12 of their row's largest) are zeros
 
     def largest(entries):
         values = [abs(k[i, j]) for i, j in entries]
