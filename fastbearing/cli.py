@@ -499,7 +499,8 @@ def _shaft(args) -> int:
         if "life" in out["bearings"][i]:
             lf = out["bearings"][i]["life"]
             print(f"  life: L10r = {lf['L10r']:.6g} million revolutions (ISO/TS 16281); L10 = "
-                  + ("-" if lf["L10"] is None else f"{lf['L10']:.6g}") + " (ISO 281)")
+                  + ("-" if lf["L10"] is None else f"{lf['L10']:.6g}") + " (ISO 281)"
+                  + (f"; C: {lf['C_source']}" if lf.get("C_source") else ""))
     if "system_L10r" in out:
         hours = "" if out["system_L10r_hours"] is None else f" ({out['system_L10r_hours']:.6g} h)"
         print(f"system life (weakest link of the bearings' L10r): {out['system_L10r']:.6g} million revolutions{hours}")
@@ -838,6 +839,8 @@ def _life_text(life: dict) -> str:
                      f"  Q_ei = {g(life['Q_ei'][k])}  Q_ee = {g(life['Q_ee'][k])}  L10r = {g(L)}{hours(L)}")
     lines.append(f"  bearing: C = {g(life['C'])}  C0 = {g(life['C0'])}  P = {g(life['P'])}  P0 = {g(life['P0'])}"
                  f"  S0 = {g(life['static_safety'])}")
+    if life.get("C_source"):
+        lines.append(f"  C: {life['C_source']}; C0: {life['C0_source']}")
     lines.append(f"  L10 (ISO 281) = {g(life['L10'])}{hours(life['L10'])}  L10r (ISO/TS 16281) = {g(life['L10r'])}"
                  f"{hours(life['L10r'])}")
     if life["max_contact_pressure"] is not None:

@@ -65,3 +65,35 @@ def test_noise_prints_as_zero_and_is_no_dropped_coupling():
         warnings.simplefilter("error")
         ross_arguments(clean)
     assert ross_dropped(K)[1]  # the tilt stiffness is real: still said
+
+
+# -- item 8: where C comes from, in every life output ----------------------------------------------------
+
+def test_every_life_output_says_where_C_comes_from(tmp_path):
+    import fastbearing as fb
+    from fastbearing.analysis.life import CATALOGUE_C, CATALOGUE_C0, ISO_C, ISO_C0, rating_sources
+    from fastbearing.jobs.loadmap import job, read_config
+    from fastbearing.report.bearing_report import bearing_report
+
+    assert rating_sources(fb.load_bearing("6205")) == {"C": CATALOGUE_C, "C0": CATALOGUE_C0}
+    assert rating_sources(fb.load_bearing("7014C-DB")) == {"C": ISO_C, "C0": ISO_C0}
+    assert rating_sources(fb.load_bearing("gunduz2013")) == {"C": None, "C0": None}
+    # solve --life: text and JSON
+    out = cli_run("solve", "--bearing", "6205", "--load", "1000,0,200,0,0", "--life")
+    assert out.returncode == 0, out.stderr
+    assert f"  C: {CATALOGUE_C}; C0: {CATALOGUE_C0}" in out.stdout.splitlines()
+    js = json.loads(cli_run("solve", "--bearing", "7014C-DB", "--load", "1000,0,200,0,0", "--life",
+                            "--json").stdout)
+    assert (js["life"]["C_source"], js["life"]["C0_source"]) == (ISO_C, ISO_C0)
+    # the bearing report
+    rep = bearing_report(fb.load_bearing("6205"))
+    assert rep["load_ratings"]["C"] == 14800 and rep["load_ratings"]["C_source"] == CATALOGUE_C
+    text = cli_run("bearing", "QJ210").stdout
+    assert f"({ISO_C})" in text and "load ratings: C = " in text
+    assert "load_ratings" not in bearing_report(fb.load_bearing("gunduz2013"))
+    # a map's attributes where it stores life
+    config = tmp_path / "map.toml"
+    config.write_text('bearing = "6205"\n[loadmap]\nlife = true\nFx = [100.0, 1000.0, 2]\nFy = 0.0\nFz = 0.0\n'
+                      'Mx = 0.0\nMy = 0.0\n')
+    attrs = job(read_config(config)).attrs
+    assert attrs["dynamic_load_rating_source"] == CATALOGUE_C and attrs["static_load_rating_source"] == CATALOGUE_C0
