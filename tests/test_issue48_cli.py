@@ -97,3 +97,33 @@ def test_every_life_output_says_where_C_comes_from(tmp_path):
                       'Mx = 0.0\nMy = 0.0\n')
     attrs = job(read_config(config)).attrs
     assert attrs["dynamic_load_rating_source"] == CATALOGUE_C and attrs["static_load_rating_source"] == CATALOGUE_C0
+
+
+def test_passage_shaft_speed_takes_the_geometry_diameters(tmp_path):
+    import math
+
+    import pytest
+
+    import fastbearing as fb
+    from fastbearing.jobs.passage import read_config
+
+    base = 'bearing = "6205"\n[passage]\npoints = [[0.01, 0.0, 0.0, 0.0, 0.0]]\nshaft_speed = 1797.0\n'
+    (tmp_path / "p.toml").write_text(base)
+    cfg = read_config(tmp_path / "p.toml")
+    g = fb.load_bearing("6205").geometry
+    assert (cfg.speed.shaft_speed, cfg.speed.ball_diameter, cfg.speed.pitch_diameter) == (
+        1797.0, g.ball_diameter, g.pitch_diameter)
+    assert cfg.speed.rotating == "inner"
+    # BPFO of the CWRU 6205 at 1797 rpm: 3.5848 x the shaft frequency
+    bpfo = 9 * cfg.speed.cage_frequency  # Z fc, outer ring at rest
+    assert math.isclose(bpfo / (1797 / 60), 3.5848, rel_tol=2e-4)
+    (tmp_path / "q.toml").write_text(base + f"ball_diameter = {g.ball_diameter}\n")
+    assert read_config(tmp_path / "q.toml").speed.ball_diameter == g.ball_diameter
+    (tmp_path / "r.toml").write_text(base + "pitch_diameter = 40.0\n")
+    with pytest.raises(ValueError, match=r"passage\.pitch_diameter.*differs from \[bearing\.geometry\]"):
+        read_config(tmp_path / "r.toml")
+    # a bearing without geometry still needs both diameters
+    (tmp_path / "s.toml").write_text('[bearing]\npreset = "gunduz2013"\narrangement = "DB"\n'
+                                     + base.split("\n", 1)[1])
+    with pytest.raises(ValueError, match="shaft_speed alone for a bearing with"):
+        read_config(tmp_path / "s.toml")

@@ -162,10 +162,27 @@ def read_config(config) -> PassageConfig:
             raise err.within("passage") from None
     speed = None
     speed_keys = [k for k in ("shaft_speed", "ball_diameter", "pitch_diameter") if k in spec]
-    if speed_keys:
+    own = _geometry_kinematics(bearing)
+    if speed_keys and own is not None and "shaft_speed" in spec:
+        # a bearing with [bearing.geometry]: its ball (or roller) and pitch diameters give the cage speed
+        for key, value in zip(("ball_diameter", "pitch_diameter"), own[:2]):
+            if key in spec:
+                given_value = validate.number(spec[key], f"passage.{key}", low=0, low_open=True, units="mm")
+                if not math.isclose(given_value, value, rel_tol=1e-12):
+                    raise validate.FieldError(f"passage.{key}", f"differs from [bearing.geometry]'s {value:g} mm: "
+                                              "leave it out (the bearing's geometry gives it)", given_value)
+        D, dm = own[:2]
+        rotating = validate.choice(spec.get("rotating", own[2]), "passage.rotating", ("inner", "outer"))
+        rpm = validate.number(spec["shaft_speed"], "passage.shaft_speed", low=0, low_open=True, units="rpm")
+        if model_speed > 0 and rpm != model_speed:
+            raise validate.FieldError("passage.shaft_speed", f"must equal passage.speed ({model_speed:g} rpm) "
+                                      "when both are given (or leave it out: the speed gives the time axis)", rpm)
+        speed = CageSpeed(rpm, D, dm, math.radians(bearing.rows[0].contact_angle), rotating)
+    elif speed_keys:
         if len(speed_keys) != 3:
             raise ValueError("passage: the time axis needs shaft_speed (rpm), ball_diameter and pitch_diameter "
-                             f"(mm) together; got only {speed_keys}")
+                             f"(mm) together (or shaft_speed alone for a bearing with [bearing.geometry]); got "
+                             f"only {speed_keys}")
         D = validate.number(spec["ball_diameter"], "passage.ball_diameter", low=0, low_open=True, units="mm")
         dm = validate.number(spec["pitch_diameter"], "passage.pitch_diameter", low=D, low_open=True, units="mm")
         rotating = validate.choice(spec.get("rotating", "inner"), "passage.rotating", ("inner", "outer"))
@@ -191,6 +208,16 @@ def read_config(config) -> PassageConfig:
     return PassageConfig(bearing, cases, positions, harmonics, speed, method, spec.get("rtol"),
                          spec.get("max_iter"), chunk, text, source, digest, model_speed, fixed, revolutions,
                          defects, kinematics, element_loads, operating_attrs)
+
+
+def _geometry_kinematics(bearing: Bearing):
+    """(ball or mean roller diameter in mm, pitch diameter in mm, the rotating ring) of a bearing with
+    [bearing.geometry], else None."""
+    g = bearing.geometry
+    element_diameter = getattr(g, "ball_diameter", None) or getattr(g, "roller_diameter", None)
+    if element_diameter is None:
+        return None
+    return element_diameter, g.pitch_diameter, getattr(g, "rotating", "inner")
 
 
 def _revolutions(spec: dict, bearing: Bearing, positions: int):
