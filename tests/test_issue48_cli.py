@@ -127,3 +127,23 @@ def test_passage_shaft_speed_takes_the_geometry_diameters(tmp_path):
                                      + base.split("\n", 1)[1])
     with pytest.raises(ValueError, match="shaft_speed alone for a bearing with"):
         read_config(tmp_path / "s.toml")
+
+
+# -- item 5: one CSV dialect ----------------------------------------------------------------------------
+
+def test_passage_csv_over_revolutions_is_the_export_dialect(tmp_path):
+    import csv
+
+    from fastbearing.report.export import K_COLUMNS, read_csv
+
+    (tmp_path / "r.toml").write_text('bearing = "6205"\n[passage]\ngiven = "load"\nFx = 1000.0\nrevolutions = 2\n'
+                                     'positions = 8\nshaft_speed = 1797.0\n')
+    out = cli_run("passage", tmp_path / "r.toml", "--csv", "-o", tmp_path / "spall.h5")
+    assert out.returncode == 0, out.stderr
+    assert not (tmp_path / "r_point0000.csv").exists()  # the CSV's name follows the output's
+    with open(tmp_path / "spall_point0000.csv") as fh:
+        rows = list(csv.reader(fh))
+    assert rows[0][:12] == ["case", "Fx_N", "Fy_N", "Fz_N", "Mx_N_mm", "My_N_mm", "point", "position",
+                            "cage_angle_rad", "shaft_angle_rad", "time_s", "status"]
+    assert rows[0][12:] == [*K_COLUMNS, "status_name", "matrix"] and len(rows) == 1 + 16
+    assert read_csv(tmp_path / "spall_point0000.csv").shape == (16, 5, 5)

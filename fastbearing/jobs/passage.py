@@ -11,7 +11,6 @@ Units: N, mm, rad; time s; frequency Hz.
 
 from __future__ import annotations
 
-import csv
 import hashlib
 import json
 import math
@@ -30,8 +29,7 @@ from ..api import solver_settings
 from ..model.bearing import Bearing, check_speed, check_speed_model, rpm_to_rad_s
 from ..model.bearing_file import read_job_config
 from ..model.mounted import operating_attributes, operating_bearing
-from ..dofs import AXES, K_ENTRIES, K_UNITS, UNITS
-from ..files import publish
+from ..dofs import AXES, K_UNITS, UNITS
 from .grid import CaseSet, check_fixed_axes, fixed_mask, input_axes
 from ..analysis.faults import fault_frequencies, fault_orders
 from ..model.bearing import without_mirror_half
@@ -493,31 +491,29 @@ def passage(config, output=None, *, threads=None, resume=False, overwrite=False,
     out = jobs.run(job(cfg, device), out, threads=threads, resume=resume, overwrite=overwrite, progress=progress,
                    client=client, max_in_flight=max_in_flight)
     if csv_paths:
-        _write_csv_files(out, cfg, csv_paths)
+        _write_csv_files(out, cfg, csv_paths, overwrite)
     return jobs.open_dataset(out) if as_dataset else out
 
 
-def _write_csv_files(h5: Path, cfg: PassageConfig, paths: list[Path]) -> None:
-    """One CSV per operating point, read point by point from the finished file (memory: one point)."""
+def _write_csv_files(h5: Path, cfg: PassageConfig, paths: list[Path], overwrite: bool = False) -> None:
+    """One CSV per operating point, read point by point from the finished file (memory: one point), in the
+    export's dialect (report/export.py's :func:`~fastbearing.report.export.write_csv`, as `fastbearing export
+    --format csv` writes it): case, the point's inputs (Fx_N ... My_N_mm or dx_mm ... by_rad), position,
+    cage_angle_rad (and time_s, shaft_angle_rad where the table has them), status, all 25 Kb entries
+    (kxx_N_per_mm ...), status_name and matrix."""
+    from ..report.export import _case_coordinates, write_csv
     from .storage import ResultFile
 
     with ResultFile(h5) as rf:
+        shape = rf.shape("K")[:-2]
+        n = int(np.prod(shape[:-1]))          # operating points; the last dim is the position
+        per = shape[-1]
+        coords = _case_coordinates(rf)         # every case's coordinates, flat over (points..., position)
+        coords.setdefault("position", (np.tile(np.arange(per, dtype=float), n), "1"))
         for i, path in enumerate(paths):
-            _write_csv(path, cfg, rf.read("K", np.unravel_index(i, cfg.cases.shape)))
-
-
-def _write_csv(path: Path, cfg: PassageConfig, K: np.ndarray) -> None:
-    """One operating point: position, cage angle (rad), time (s) if known, then the 15 Kb entries."""
-    header = ["position", "cage_angle_rad"] + (["time_s"] if cfg.speed else []) + [e[2] for e in K_ENTRIES]
-    angles = cfg.cage_angles
-    times = angles / (2 * math.pi * cfg.speed.cage_frequency) if cfg.speed else None
-
-    def write(tmp):
-        with open(tmp, "w", newline="") as fh:
-            w = csv.writer(fh)
-            w.writerow(header)
-            for p in range(K.shape[0]):
-                row = [p, repr(float(angles[p]))] + ([repr(float(times[p]))] if times is not None else [])
-                w.writerow(row + [repr(float(K[p, i, j])) for i, j, _ in K_ENTRIES])
-
-    publish(path, write)
+            index = np.unravel_index(i, shape[:-1])
+            cases = slice(i * per, (i + 1) * per)
+            status = rf.read("status", index).reshape(-1) if rf.has("status") else None
+            write_csv(path, rf.read("K", index), overwrite=overwrite, status=status,
+                      coords={name: (values[cases], units) for name, (values, units) in coords.items()},
+                      first_case=i * per)

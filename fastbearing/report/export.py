@@ -376,14 +376,16 @@ def csv_header(coords: dict | None = None, status: bool = False) -> list[str]:
     return names + (["status"] if status else []) + list(K_COLUMNS) + (["status_name"] if status else []) + ["matrix"]
 
 
-def write_csv(path, K, overwrite=False, coords: dict | None = None, status=None, matrix: str = KB) -> Path:
+def write_csv(path, K, overwrite=False, coords: dict | None = None, status=None, matrix: str = KB,
+              first_case: int = 0) -> Path:
     """One row per matrix, under a single header row that ``pandas.read_csv(path)`` and
     ``numpy.genfromtxt(path, delimiter=",", names=True, dtype=None)`` read as it is (no comment line): the
     case index, what the case is (``coords``: name -> (values, units), e.g. Fx ... My), the case's integer
     ``status`` code (fastbearing.status, if given), the 25 entries K_ij in row-major DOF order (x, y, z, tx,
     ty), then the status names (e.g. "converged+beyond_validity") and ``matrix`` (which matrix this is).
     Every numeric column's name ends in its units: Fx_N, My_N_mm, dx_mm, bx_rad, kxx_N_per_mm (N/mm),
-    kxtx_N_per_rad (N/rad), ktxty_N_mm_per_rad (N*mm/rad)."""
+    kxtx_N_per_rad (N/rad), ktxty_N_mm_per_rad (N*mm/rad). ``first_case``: the case index of the first row
+    (a part of a file's cases keeps the file's flat case numbers, as `export --case` takes them)."""
     path = Path(path)
     _check_output(path, overwrite)
     Ks = _as_matrices(K)
@@ -399,7 +401,7 @@ def write_csv(path, K, overwrite=False, coords: dict | None = None, status=None,
             w = csv.writer(fh)
             w.writerow(header)
             for i, k in enumerate(Ks):
-                row = [i] + [repr(float(v[i])) for _, v, _ in columns]
+                row = [first_case + i] + [repr(float(v[i])) for _, v, _ in columns]
                 row += [int(states[0][i])] if states else []
                 row += [repr(float(v)) for v in k.ravel()]
                 row += [states[1][i]] if states else []
