@@ -559,18 +559,19 @@ def _export(args) -> int:
     codes = None if source.codes is None else (source.codes[0] if np.ndim(K) == 2 else source.codes)
     if args.format == "csv":
         export.write_csv(out, K, overwrite=args.overwrite, coords=source.coords, status=codes,
-                         matrix=source.matrix)
+                         matrix=source.matrix, results=source.results)
     elif args.format == "json":
         export.write_json(out, K, overwrite=args.overwrite, extra=source.extra, coords=source.coords,
-                          status=codes, matrix=source.matrix)
+                          status=codes, matrix=source.matrix, results=source.results)
     elif args.format == "npz":
         export.write_npz(out, K, overwrite=args.overwrite, coords=source.coords, status=codes,
-                         matrix=source.matrix)
+                         matrix=source.matrix, results=source.results)
     elif args.format == "dmig":
         if args.grid < 1 or (args.ground_grid is not None and (args.ground_grid < 1 or args.ground_grid == args.grid)):
             raise ValueError("--grid and --ground-grid must be different positive grid ids")
         export.write_dmig(out, K, grid=args.grid, name=args.name, ground_grid=args.ground_grid,
-                          overwrite=args.overwrite, matrix=source.matrix, centre=source.centre)
+                          overwrite=args.overwrite, matrix=source.matrix, centre=source.centre,
+                          source=args.source, case=source.case)
     else:
         if args.node < 0:
             raise ValueError(f"--node must be a shaft node number >= 0, got {args.node}")
@@ -578,7 +579,8 @@ def _export(args) -> int:
 
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
-            export.write_ross(out, K, node=args.node, overwrite=args.overwrite, matrix=source.matrix)
+            export.write_ross(out, K, node=args.node, overwrite=args.overwrite, matrix=source.matrix,
+                              source=args.source, case=source.case)
         for w in caught:
             print(f"fastbearing: warning: {w.message}", file=sys.stderr)
     print(f"fastbearing: wrote {out} ({source.matrix})", file=sys.stderr)

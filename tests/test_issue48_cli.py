@@ -147,3 +147,58 @@ def test_passage_csv_over_revolutions_is_the_export_dialect(tmp_path):
                             "cage_angle_rad", "shaft_angle_rad", "time_s", "status"]
     assert rows[0][12:] == [*K_COLUMNS, "status_name", "matrix"] and len(rows) == 1 + 16
     assert read_csv(tmp_path / "spall_point0000.csv").shape == (16, 5, 5)
+
+
+def test_exports_carry_lives_loads_speed_and_their_case(tmp_path):
+    import csv
+
+    import numpy as np
+
+    from fastbearing.report.export import ROSS_NOTES, read_dmig
+
+    config = tmp_path / "map.toml"
+    config.write_text('bearing = "6205"\n[loadmap]\nlife = true\nspeed = 1800.0\nFx = [500.0, 1000.0, 1500.0]\n'
+                      'Fy = 0.0\nFz = [0.0, 400.0]\nMx = 0.0\nMy = 0.0\n')
+    assert cli_run("loadmap", config, "-o", tmp_path / "map.h5").returncode == 0
+    out = cli_run("export", tmp_path / "map.h5", "--format", "csv", "-o", tmp_path / "map.csv")
+    assert out.returncode == 0, out.stderr
+    with open(tmp_path / "map.csv") as fh:
+        rows = list(csv.DictReader(fh))
+    assert len(rows) == 6
+    for name in ("L10r_million_revolutions", "L10_million_revolutions", "static_safety", "L10r_hours_h",
+                 "L10_hours_h", "L10r_row0_million_revolutions"):
+        assert name in rows[0], (name, list(rows[0]))
+    L10 = float(rows[0]["L10_million_revolutions"])  # Fx = 500 N, Fz = 0: (C/P)^3 with P = Fr
+    assert abs(L10 - (14800 / 500) ** 3) < 1e-6 * L10
+    assert abs(float(rows[0]["L10_hours_h"]) - L10 * 1e6 / (60 * 1800)) < 1e-6 * L10
+    js = json.loads(cli_run("export", tmp_path / "map.h5", "--format", "json", "-o", tmp_path / "map.json")
+                    .returncode and "{}" or (tmp_path / "map.json").read_text())
+    assert js["results"]["L10r"]["units"] == "million revolutions" and len(js["results"]["L10r"]["values"]) == 6
+    assert cli_run("export", tmp_path / "map.h5", "--format", "npz", "-o", tmp_path / "map.npz").returncode == 0
+    with np.load(tmp_path / "map.npz") as z:
+        assert z["L10r"].shape == (6,) and "L10r: million revolutions" in list(z["result_units"])
+    # DMIG and ROSS say which case they hold and where it comes from
+    out = cli_run("export", tmp_path / "map.h5", "--format", "dmig", "--at", "Fx=1000,Fz=400", "-o",
+                  tmp_path / "k.bdf")
+    assert out.returncode == 0, out.stderr
+    text = (tmp_path / "k.bdf").read_text()
+    case_lines = " ".join(line[2:] for line in text.splitlines() if line.startswith("$ "))
+    assert f"source: {tmp_path / 'map.h5'}".replace(" ", "") in case_lines.replace(" ", "")
+    assert "case 3 of map.h5 (--at picked Fx=1000, Fz=400" in case_lines and "Fz = 400 N" in case_lines
+    assert read_dmig(tmp_path / "k.bdf")  # still bulk data
+    out = cli_run("export", tmp_path / "map.h5", "--format", "ross", "--case", "5", "-o", tmp_path / "k.json")
+    assert out.returncode == 0, out.stderr
+    ross = json.loads((tmp_path / "k.json").read_text())
+    assert ross["source"] == str(tmp_path / "map.h5") and ross["case"].startswith("case 5 of map.h5 (--case): Fx = 1500 N")
+    assert set(ross) - set(ROSS_NOTES) == {"n", "kxx", "kxy", "kyx", "kyy", "kzz", "cxx"}
+    # a solve's CSV has its load and speed
+    solve = cli_run("solve", "--bearing", "6205", "--load", "1000,0,200,0,0", "--speed", "1800", "--json")
+    (tmp_path / "s.json").write_text(solve.stdout)
+    assert cli_run("export", tmp_path / "s.json", "--format", "csv", "-o", tmp_path / "s.csv").returncode == 0
+    with open(tmp_path / "s.csv") as fh:
+        row = next(csv.DictReader(fh))
+    got = (float(row["Fx_N"]), float(row["Fz_N"]), float(row["speed_rpm"]))
+    assert np.allclose(got, (1000.0, 200.0, 1800.0), rtol=1e-9)  # f: the load the solve carries
+    assert cli_run("export", tmp_path / "s.json", "--format", "dmig", "-o", tmp_path / "s.bdf").returncode == 0
+    assert "solve --json): Fx = 1000 N" in " ".join(
+        line[2:] for line in (tmp_path / "s.bdf").read_text().splitlines() if line.startswith("$ "))

@@ -39,7 +39,7 @@ KB = "bearing stiffness Kb"
 #: Where a bearing's Kb acts (DMIG placement note).
 KB_CENTRE = "the bearing centre"
 #: The keys of a ROSS export that are fastbearing's notes, not BearingElement arguments.
-ROSS_NOTES = ("units", "matrix", "dropped")
+ROSS_NOTES = ("units", "matrix", "dropped", "source", "case")
 
 
 #: An entry below this fraction of its row's largest |entry| is round-off noise (an exact zero computed as
@@ -80,7 +80,11 @@ class Source:
     JSON exports. ``picked`` describes the case chosen by ``--at`` (empty otherwise). ``codes``: each case's
     integer status code (fastbearing.status) where the source stores them (a .h5 file), else None.
     ``matrix`` says which matrix K is (e.g. "bearing stiffness Kb", a shaft bearing's Kb, a shaft's
-    K_system) and ``centre`` where it acts (the point a DMIG grid must sit at)."""
+    K_system) and ``centre`` where it acts (the point a DMIG grid must sit at). ``results``: what the source
+    computed beside K for each case, name -> (values (N,), units): a map's rating lives (L10r, L10r_row0 ...,
+    static_safety, L10, L10r_hours, L10_hours) where it has them, a solve's load f (Fx ... My) and speed.
+    ``case``: which case K is and where it comes from, in words (the source file, and the --case index or
+    --at values), for the files that hold one case (DMIG, ROSS)."""
 
     K: np.ndarray
     status: list[str]
@@ -90,6 +94,8 @@ class Source:
     codes: np.ndarray | None = None
     matrix: str = KB
     centre: str = KB_CENTRE
+    results: dict = field(default_factory=dict)
+    case: str = ""
 
     @property
     def unconverged(self) -> list[int]:
@@ -165,12 +171,18 @@ def read_source(path, case: int | None = None, at: dict | None = None, bearing: 
         status = body.get("status", "converged")
         status = status if isinstance(status, str) else "unknown"
         if "K_system" in body and "K" not in body:
-            return _shaft_source(path, body, status, bearing, system)
+            from dataclasses import replace
+
+            picked = _shaft_source(path, body, status, bearing, system)
+            return replace(picked, case=f"{picked.matrix}, from {path.name} (shaft --json)")
         if bearing is not None or system:
             raise ValueError(f"--{'bearing' if bearing is not None else 'system'} picks a matrix of a "
                              f"`shaft --json` output; {path.name} is a single bearing's (solve --json)")
         K = _matrix_field(body["K"], f"{path.name}: K")
-        return Source(K, [status], {k: body[k] for k in ("q", "f", "status") if k in body})
+        results = _solve_results(body)
+        point = ", ".join(f"{name} = {v[0]:g} {units}" for name, (v, units) in results.items())
+        return Source(K, [status], {k: body[k] for k in ("q", "f", "status") if k in body}, results=results,
+                      case=f"the operating point of {path.name} (solve --json)" + (f": {point}" if point else ""))
     if suffix not in (".h5", ".hdf5", ".zarr"):
         raise ValueError(f"SOURCE must be a .json or .h5 file or a .zarr store, got {path.name!r}")
     if bearing is not None or system:
@@ -187,6 +199,7 @@ def read_source(path, case: int | None = None, at: dict | None = None, bearing: 
         lead = rf.shape("K")[:-2]
         n = int(np.prod(lead))
         coords = _case_coordinates(rf)
+        results = _life_columns(rf)
         picked = ""
         if at is not None:
             case, picked = _nearest_case(rf, at)
@@ -197,13 +210,34 @@ def read_source(path, case: int | None = None, at: dict | None = None, bearing: 
             K = rf.read("K", np.unravel_index(case, lead))
             codes = codes[case:case + 1]
             coords = {k: (v[case:case + 1], u) for k, (v, u) in coords.items()}
+            results = {k: (v[case:case + 1], u) for k, (v, u) in results.items()}
         else:
             K = rf.read("K").reshape(-1, 5, 5)
     from .. import status as st
 
     codes = np.asarray(codes).astype(np.int64)
+    said = ""
+    if case is not None:
+        where = ", ".join(f"{name} = {v[0]:g}" + ("" if u in ("", "1") else f" {u}") for name, (v, u) in coords.items())
+        said = (f"case {case} of {Path(str(path)).name}" + (f" (--at picked {picked.split('picked ', 1)[1]})"
+                if picked else " (--case)") + (f": {where}" if where else ""))
     return Source(np.asarray(K, dtype=float), [st.describe(int(c)) for c in codes], {}, coords, picked,
-                  codes=codes)
+                  codes=codes, results=results, case=said)
+
+
+def _solve_results(body: dict) -> dict:
+    """A solve's load f (Fx ... My: the load on the inner ring, N and N*mm; with --fix the reactions there)
+    and shaft speed (rpm) as one-case results, where its JSON has them."""
+    from ..dofs import LOAD_NAMES
+    from ..dofs import UNITS as DOF_UNITS
+
+    out = {}
+    f = body.get("f")
+    if isinstance(f, list) and len(f) == 5 and all(isinstance(v, (int, float)) for v in f):
+        out.update({name: (np.array([float(v)]), units) for name, v, units in zip(LOAD_NAMES, f, DOF_UNITS["load"])})
+    if isinstance(body.get("speed"), (int, float)):
+        out["speed"] = (np.array([float(body["speed"])]), "rpm")
+    return out
 
 
 def _shaft_source(path: Path, body: dict, status: str, bearing, system: bool) -> Source:
@@ -281,6 +315,30 @@ def _case_coordinates(rf) -> dict:
         dim = name if name in lead_dims else rf.dims(name)[0]
         if dim in lead_dims and rf.shape(name)[0] == shape[lead_dims.index(dim)]:
             out[name] = (broadcast(rf.read(name), lead_dims.index(dim)), units)
+    return out
+
+
+#: A map's life variables (storage.life_variables) that the CSV, JSON and npz exports carry per case.
+LIFE_COLUMNS = ("L10r", "L10r_row", "static_safety", "L10", "L10r_hours", "L10_hours")
+
+
+def _life_columns(rf) -> dict:
+    """Each case's rating lives where a map stores them, flattened as :func:`_case_coordinates`:
+    name -> (values (N,), units); a per-row variable (L10r_row) as one column per row (L10r_row0 ...).
+    {} for a file without life. ``rf``: a storage.ResultFile."""
+    lead_dims = rf.dims("K")[:-2]
+    n = int(np.prod(rf.shape("K")[:-2]))
+    out = {}
+    for name in LIFE_COLUMNS:
+        if not rf.has(name) or tuple(rf.dims(name)[:len(lead_dims)]) != tuple(lead_dims):
+            continue
+        units = str(rf.attrs(name).get("units", "1"))
+        values = np.asarray(rf.read(name), float).reshape(n, -1)
+        if values.shape[1] == 1 and rf.ndim(name) == len(lead_dims):
+            out[name] = (values[:, 0], units)
+        else:
+            for k in range(values.shape[1]):
+                out[f"{name}{k}"] = (values[:, k], units)
     return out
 
 
@@ -368,30 +426,36 @@ def _plain_text(text: str) -> str:
     return str(text).replace(",", ";").replace('"', "'").replace("#", "no.").replace("\n", " ")
 
 
-def csv_header(coords: dict | None = None, status: bool = False) -> list[str]:
+def csv_header(coords: dict | None = None, status: bool = False, results: dict | None = None) -> list[str]:
     """The CSV column names :func:`write_csv` writes: case, each coordinate with its units (Fx_N ... My_N_mm,
-    dx_mm ... by_rad, position, cage_angle_rad ...), status (the integer code) if given, the 25 K entries
-    (:data:`K_COLUMNS`), then the text columns status_name (if given) and matrix."""
+    dx_mm ... by_rad, position, cage_angle_rad ...), status (the integer code) if given, each result with its
+    units (L10r_million_revolutions, L10r_hours_h, speed_rpm ...), the 25 K entries (:data:`K_COLUMNS`), then
+    the text columns status_name (if given) and matrix."""
     names = ["case"] + [f"{name}{units_suffix(units)}" for name, (_, units) in (coords or {}).items()]
-    return names + (["status"] if status else []) + list(K_COLUMNS) + (["status_name"] if status else []) + ["matrix"]
+    names += ["status"] if status else []
+    names += [f"{name}{units_suffix(units)}" for name, (_, units) in (results or {}).items()]
+    return names + list(K_COLUMNS) + (["status_name"] if status else []) + ["matrix"]
 
 
 def write_csv(path, K, overwrite=False, coords: dict | None = None, status=None, matrix: str = KB,
-              first_case: int = 0) -> Path:
+              first_case: int = 0, results: dict | None = None) -> Path:
     """One row per matrix, under a single header row that ``pandas.read_csv(path)`` and
     ``numpy.genfromtxt(path, delimiter=",", names=True, dtype=None)`` read as it is (no comment line): the
     case index, what the case is (``coords``: name -> (values, units), e.g. Fx ... My), the case's integer
     ``status`` code (fastbearing.status, if given), the 25 entries K_ij in row-major DOF order (x, y, z, tx,
     ty), then the status names (e.g. "converged+beyond_validity") and ``matrix`` (which matrix this is).
     Every numeric column's name ends in its units: Fx_N, My_N_mm, dx_mm, bx_rad, kxx_N_per_mm (N/mm),
-    kxtx_N_per_rad (N/rad), ktxty_N_mm_per_rad (N*mm/rad). ``first_case``: the case index of the first row
+    kxtx_N_per_rad (N/rad), ktxty_N_mm_per_rad (N*mm/rad). ``results`` (name -> (values, units): a map's
+    lives, a solve's load and speed) follow the status, before the K entries. ``first_case``: the case index of the first row
     (a part of a file's cases keeps the file's flat case numbers, as `export --case` takes them)."""
     path = Path(path)
     _check_output(path, overwrite)
     Ks = _as_matrices(K)
     columns = _coordinate_columns(coords, len(Ks))
     states = _status_columns(status, len(Ks))
-    header = csv_header({name: (v, units) for name, v, units in columns}, states is not None)
+    computed = _coordinate_columns(results, len(Ks))
+    header = csv_header({name: (v, units) for name, v, units in columns}, states is not None,
+                        {name: (v, units) for name, v, units in computed})
     if len(set(header)) != len(header):
         raise ValueError(f"coordinate names clash with the CSV's own columns: {header}")
     label = _plain_text(matrix)
@@ -403,6 +467,7 @@ def write_csv(path, K, overwrite=False, coords: dict | None = None, status=None,
             for i, k in enumerate(Ks):
                 row = [first_case + i] + [repr(float(v[i])) for _, v, _ in columns]
                 row += [int(states[0][i])] if states else []
+                row += [repr(float(v[i])) for _, v, _ in computed]
                 row += [repr(float(v)) for v in k.ravel()]
                 row += [states[1][i]] if states else []
                 w.writerow(row + [label])
@@ -425,11 +490,12 @@ def read_csv(path) -> np.ndarray:
 
 
 def write_json(path, K, overwrite=False, extra: dict | None = None, coords: dict | None = None, status=None,
-               matrix: str = KB) -> Path:
+               matrix: str = KB, results: dict | None = None) -> Path:
     """{"matrix": which matrix, "dof": [...], "units": ..., "K": 5x5 or a list of them, "cases": {name:
     {"units", "values"}}}, with the integer ``status`` codes given (fastbearing.status) as "status_code"
-    and their names as "status" (one value for one matrix, else a list), plus ``extra`` (e.g. q, f,
-    status of a solve). Units: N, mm, rad (K: N/mm, N*mm/rad, N/rad)."""
+    and their names as "status" (one value for one matrix, else a list), ``results`` (a map's lives, a
+    solve's load and speed) as "results": {name: {"units", "values"}}, plus ``extra`` (e.g. q, f, status of
+    a solve). Units: N, mm, rad (K: N/mm, N*mm/rad, N/rad)."""
     path = Path(path)
     _check_output(path, overwrite)
     Ks = _as_matrices(K)
@@ -439,6 +505,10 @@ def write_json(path, K, overwrite=False, extra: dict | None = None, coords: dict
     if columns:
         body["cases"] = {name: {"units": units, "values": float(v[0]) if one else v.tolist()}
                          for name, v, units in columns}
+    computed = _coordinate_columns(results, len(Ks))
+    if computed:
+        body["results"] = {name: {"units": units, "values": float(v[0]) if one else v.tolist()}
+                           for name, v, units in computed}
     states = _status_columns(status, len(Ks))
     if states:
         body["status"] = states[1][0] if one else states[1]
@@ -448,11 +518,12 @@ def write_json(path, K, overwrite=False, extra: dict | None = None, coords: dict
 
 
 def write_npz(path, K, overwrite=False, coords: dict | None = None, status=None, matrix: str = KB,
-              **arrays) -> Path:
+              results: dict | None = None, **arrays) -> Path:
     """NumPy .npz with K, dof (names), units (text) and matrix (which matrix K is, text), each coordinate of
     ``coords`` as an array of its own name with its units in ``coordinate_units`` ("Fx: N", ...), the
-    integer ``status`` codes given (fastbearing.status) as status and their names as status_name, plus
-    any other arrays given. Units: N, mm, rad (K: N/mm, N*mm/rad, N/rad)."""
+    integer ``status`` codes given (fastbearing.status) as status and their names as status_name, each of
+    ``results`` (a map's lives, a solve's load and speed) as an array of its own name with its units in
+    ``result_units``, plus any other arrays given. Units: N, mm, rad (K: N/mm, N*mm/rad, N/rad)."""
     path = Path(path)
     _check_output(path, overwrite)
     Ks = _as_matrices(K)
@@ -460,6 +531,10 @@ def write_npz(path, K, overwrite=False, coords: dict | None = None, status=None,
     named = {name: v for name, v, _ in columns}
     if columns:
         named["coordinate_units"] = np.array([f"{name}: {units}" for name, _, units in columns])
+    computed = _coordinate_columns(results, len(Ks))
+    named.update({name: v for name, v, _ in computed})
+    if computed:
+        named["result_units"] = np.array([f"{name}: {units}" for name, _, units in computed])
     clash = sorted(set(named) & {"K", "dof", "units", "matrix", "status", "status_name"})
     if clash:
         raise ValueError(f"coordinate names {clash} clash with the npz's own arrays")
@@ -488,7 +563,7 @@ def _comment(text: str, width: int = 80) -> list[str]:
 
 
 def write_dmig(path, K, grid: int, name: str = "KBRG", ground_grid: int | None = None, overwrite=False,
-               matrix: str = KB, centre: str = KB_CENTRE) -> Path:
+               matrix: str = KB, centre: str = KB_CENTRE, source: str | None = None, case: str = "") -> Path:
     """Nastran DMIG bulk data (large field, real double precision) for one 5x5 Kb.
 
     Units: fastbearing's N, mm, rad are Nastran's consistent N-mm-t-s system,
@@ -505,7 +580,9 @@ def write_dmig(path, K, grid: int, name: str = "KBRG", ground_grid: int | None =
     tx, ty are components 1-5 there; a model whose shaft runs along x needs such a coordinate system on
     that grid, GRID's CD field); the ``ground_grid`` spring holds only when the two grids coincide (same
     point, same output system); an unsymmetric Kb needs a solution sequence that accepts an unsymmetric
-    stiffness. ``matrix`` (which matrix K is) heads the comment lines.
+    stiffness. ``matrix`` (which matrix K is) heads the comment lines; ``source`` (the file K was read
+    from) and ``case`` (which of its cases, e.g. the --at values or the --case index) follow it as
+    "$ source: ..." and "$ case: ..." lines.
     """
     path = Path(path)
     _check_output(path, overwrite)
@@ -527,6 +604,10 @@ def write_dmig(path, K, grid: int, name: str = "KBRG", ground_grid: int | None =
     lines = _comment(f"fastbearing {matrix}; DOF order {', '.join(DOF)} -> components 1-5 of grid {grid}"
                      + (f" and of grid {ground_grid}" if ground_grid is not None else "")
                      + "; use it in case control as K2GG = " + name)
+    if source:
+        lines += _comment(f"source: {source}")
+    if case:
+        lines += _comment(f"case: {case}")
     lines += _comment("units (Nastran N-mm-t-s system): N/mm among x, y, z; N*mm/rad among tx, ty; N/rad "
                       "between translations and tilts")
     lines += _comment(f"placement: grid {grid} must sit at {centre}, its output coordinate system (GRID CD) "
@@ -637,13 +718,18 @@ def ross_arguments(K, node: int = 0) -> dict:
             "units": "N/m (SI, as ROSS expects); damping not modelled by fastbearing (cxx = 0)"}
 
 
-def write_ross(path, K, node: int = 0, overwrite=False, matrix: str = KB) -> Path:
+def write_ross(path, K, node: int = 0, overwrite=False, matrix: str = KB, source: str | None = None,
+               case: str = "") -> Path:
     """The :func:`ross_arguments` as JSON, for ``ross.BearingElement(**args)`` once fastbearing's notes
-    (:data:`ROSS_NOTES`: "units"; "matrix", which matrix this is; "dropped", what ROSS drops of it) are
-    removed."""
+    (:data:`ROSS_NOTES`: "units"; "matrix", which matrix this is; "dropped", what ROSS drops of it;
+    "source", the file K was read from, and "case", which of its cases, where given) are removed."""
     path = Path(path)
     _check_output(path, overwrite)
     args = ross_arguments(K, node)
     args["matrix"] = matrix
     args["dropped"] = ross_dropped(K)[0]
+    if source:
+        args["source"] = str(source)
+    if case:
+        args["case"] = case
     return _publish(path, lambda tmp: tmp.write_text(json.dumps(args, indent=1)))
