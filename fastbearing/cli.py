@@ -221,6 +221,11 @@ def build_parser() -> argparse.ArgumentParser:
                     help="the case of a .h5 source nearest to these coordinates, every varying axis named in "
                          "its units (N, N*mm; mm, rad), e.g. --at Fx=1000,Fz=3000,My=0; a table's own dims "
                          "by index: --at point=3,position=0; a value outside an axis' range is refused")
+    ex.add_argument("--over", metavar="AXIS", default=None,
+                    help="a map (.h5, .zarr): Kb along this axis, every other varying axis fixed with --at in "
+                         "its units; --format ross takes --over speed: kxx, kxy, kyx, kyy, kzz (N/m) as lists over "
+                         "frequency (the speeds in rad/s), ROSS's frequency-dependent BearingElement; csv, json "
+                         "and npz take any axis")
     ex.add_argument("--bearing", default=None, metavar="NAME|N",
                     help="shaft --json source: export this bearing's own Kb (about its centre; N/mm, N*mm/rad, "
                          "N/rad), by its name or its index in the JSON's bearings list")
@@ -537,8 +542,18 @@ def _export(args) -> int:
         raise ValueError("--grid, --ground-grid and --name go with --format dmig")
     if args.format != "ross" and args.node != 0:
         raise ValueError("--node goes with --format ross")
-    source = export.read_source(args.source, args.case, None if args.at is None else export.parse_at(args.at),
-                                bearing=args.bearing, system=args.system)
+    at = None if args.at is None else export.parse_at(args.at)
+    if args.over is not None:
+        if args.format == "dmig":
+            raise ValueError("--over goes with --format ross, csv, json or npz (a DMIG matrix holds one case)")
+        if args.format == "ross" and args.over != "speed":
+            raise ValueError(f"--format ross takes --over speed (ROSS's coefficients run over frequency), got "
+                             f"--over {args.over}")
+        if args.case is not None or args.bearing is not None or args.system:
+            raise ValueError("--over picks its cases itself: --case, --bearing and --system do not go with it")
+        source = export.read_series(args.source, args.over, at)
+    else:
+        source = export.read_source(args.source, args.case, at, bearing=args.bearing, system=args.system)
     if source.picked:
         print(f"fastbearing: {source.picked}", file=sys.stderr)
     K = source.K[0] if source.K.ndim == 3 and len(source.K) == 1 else source.K
@@ -546,12 +561,14 @@ def _export(args) -> int:
         raise ValueError(f"{args.source}: K is not finite (a case that did not solve)")
     bad = source.unconverged
     if args.format in ("dmig", "ross"):
-        if np.ndim(K) == 3:
+        if np.ndim(K) == 3 and args.over is None:
             raise ValueError(f"--format {args.format} takes one matrix: pick a case of {Path(args.source).name} "
                              "with --case N or --at AXIS=VALUE,...")
         if bad:
-            raise ValueError(f"{args.source}: the case's solve did not converge (status {source.status[0]}); "
-                             f"a {args.format} model would take its Kb as true")
+            raise ValueError(f"{args.source}: " + (f"the case's solve did not converge (status {source.status[0]})"
+                             if args.over is None else f"{len(bad)} of the {len(source.status)} cases along "
+                             f"{args.over} did not converge (first: {source.status[bad[0]]})")
+                             + f"; a {args.format} model would take its Kb as true")
     elif bad:
         print(f"fastbearing: warning: {len(bad)} of {len(source.status)} cases did not converge "
               f"(first: case {bad[0]}, {source.status[bad[0]]}); their Kb is written as computed",
@@ -580,7 +597,8 @@ def _export(args) -> int:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
             export.write_ross(out, K, node=args.node, overwrite=args.overwrite, matrix=source.matrix,
-                              source=args.source, case=source.case)
+                              source=args.source, case=source.case,
+                              speeds_rpm=None if args.over is None else source.coords["speed"][0])
         for w in caught:
             print(f"fastbearing: warning: {w.message}", file=sys.stderr)
     print(f"fastbearing: wrote {out} ({source.matrix})", file=sys.stderr)

@@ -2,6 +2,9 @@
 
 import json
 
+import numpy as np
+import pytest
+
 from conftest import cli_run
 
 from fastbearing import cli
@@ -202,3 +205,75 @@ def test_exports_carry_lives_loads_speed_and_their_case(tmp_path):
     assert cli_run("export", tmp_path / "s.json", "--format", "dmig", "-o", tmp_path / "s.bdf").returncode == 0
     assert "solve --json): Fx = 1000 N" in " ".join(
         line[2:] for line in (tmp_path / "s.bdf").read_text().splitlines() if line.startswith("$ "))
+
+
+# -- item 4: ROSS over speed --------------------------------------------------------------------------------
+
+@pytest.fixture(scope="module")
+def speed_map(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("speed")
+    (folder / "s.toml").write_text('bearing = "7014C-DB"\n[loadmap]\ngiven = "load"\n'
+                                   'speed = { start = 0.0, stop = 24000.0, num = 4 }\nFx = [500.0, 1000.0]\n'
+                                   'Fy = 0.0\nFz = { start = 0.0, stop = 1000.0, num = 3 }\nMx = 0.0\nMy = 0.0\n')
+    out = cli_run("loadmap", folder / "s.toml", "-o", folder / "s.h5")
+    assert out.returncode == 0, out.stderr
+    return folder / "s.h5"
+
+
+def test_ross_over_speed_is_the_frequency_dependent_bearing_element(speed_map, tmp_path):
+    import math
+
+    import fastbearing as fb
+    from fastbearing.report.export import ROSS_NOTES
+
+    out = cli_run("export", speed_map, "--format", "ross", "--over", "speed", "--at", "Fx=1000,Fz=500",
+                  "-o", tmp_path / "b.json")
+    assert out.returncode == 0, out.stderr
+    assert "at 0 rpm (of 4 speeds)" in out.stderr  # the tilt stiffness is largest at rest here
+    args = json.loads((tmp_path / "b.json").read_text())
+    np.testing.assert_allclose(args["frequency"], np.array([0.0, 8000.0, 16000.0, 24000.0]) * 2 * math.pi / 60)
+    ds = fb.open_dataset(speed_map)
+    K = ds["K"].sel(Fx=1000.0, Fz=500.0).values  # (speed, 5, 5), N/mm
+    for name, (i, j) in zip(("kxx", "kxy", "kyx", "kyy", "kzz"), ((0, 0), (0, 1), (1, 0), (1, 1), (2, 2))):
+        np.testing.assert_array_equal(args[name], K[:, i, j] * 1e3)
+    assert args["cxx"] == [0.0] * 4 and len(args["dropped"]) == 4 and args["n"] == 0
+    assert set(args) - set(ROSS_NOTES) == {"n", "kxx", "kxy", "kyx", "kyy", "kzz", "cxx", "frequency"}
+    assert "Kb over speed (0 to 24000, 4 values) at Fx=1000, Fz=500" in args["case"]
+    # the same --over for json and npz, along any axis
+    assert cli_run("export", speed_map, "--format", "json", "--over", "Fz", "--at", "speed=8000,Fx=500",
+                   "-o", tmp_path / "fz.json").returncode == 0
+    body = json.loads((tmp_path / "fz.json").read_text())
+    assert np.array(body["K"]).shape == (3, 5, 5) and body["cases"]["Fz"]["values"] == [0.0, 500.0, 1000.0]
+    np.testing.assert_array_equal(body["K"], ds["K"].sel(speed=8000.0, Fx=500.0).values)
+    assert cli_run("export", speed_map, "--format", "npz", "--over", "speed", "--at", "Fx=500,Fz=0",
+                   "-o", tmp_path / "s.npz").returncode == 0
+    with np.load(tmp_path / "s.npz") as z:
+        assert z["K"].shape == (4, 5, 5) and list(z["speed"]) == [0.0, 8000.0, 16000.0, 24000.0]
+    # refused: what cannot be
+    for extra, words in ((["--format", "ross", "--over", "Fz", "--at", "speed=0,Fx=500"], "--over speed"),
+                         (["--format", "dmig", "--over", "speed", "--at", "Fx=500,Fz=0"], "DMIG matrix holds one"),
+                         (["--format", "ross", "--over", "speed", "--at", "Fx=500"], "missing: Fz"),
+                         (["--format", "json", "--over", "rpm", "--at", "Fx=500,Fz=0"], "one of this file's axes"),
+                         (["--format", "ross", "--over", "speed", "--at", "Fx=500,Fz=0,speed=0"], "name only the other")):
+        bad = cli_run("export", speed_map, *extra, "-o", tmp_path / "x.json")
+        assert bad.returncode == 2 and words in bad.stderr, (extra, bad.stderr)
+        assert not (tmp_path / "x.json").exists()
+
+
+def test_the_docs_ross_rotor_runs_when_ross_is_installed(speed_map, tmp_path, monkeypatch):
+    """docs/shafts-and-export.md's ROSS block (skipped by the docs runner): a rotor on two bearings over speed
+    and its Campbell diagram, where ROSS is importable."""
+    pytest.importorskip("ross", reason="ROSS (pip install ross-rotordynamics) is not installed here")
+    import re
+    from pathlib import Path
+
+    text = (Path(__file__).resolve().parents[1] / "docs" / "shafts-and-export.md").read_text()
+    block = re.search(r"needs ROSS; tests/test_issue48_cli\.py.*?```python\n(.*?)```", text, re.S).group(1)
+    monkeypatch.chdir(tmp_path)
+    out = cli_run("export", speed_map, "--format", "ross", "--over", "speed", "--at", "Fx=500,Fz=1000",
+                  "-o", "spindle-bearing.json")
+    assert out.returncode == 0, out.stderr
+    namespace = {}
+    exec(compile(block.replace("campbell.plot()", "figure = campbell.plot()"), "shafts-and-export.md", "exec"),
+         namespace)
+    assert namespace["campbell"] is not None

@@ -225,6 +225,55 @@ def read_source(path, case: int | None = None, at: dict | None = None, bearing: 
                   codes=codes, results=results, case=said)
 
 
+def read_series(path, over: str, at: dict | None = None) -> Source:
+    """Kb of a finished map (.h5 file or zarr store) along one of its axes: ``over`` names the axis (e.g.
+    "speed"), ``at`` the value of every other varying axis in its units (N, N*mm; mm, rad; rpm), the
+    nearest grid value taken as :func:`read_source` takes it (an axis of one value needs none). The Source
+    holds K (n, 5, 5) in the axis' order, each case's coordinates (the axis' values among them), status
+    and lives, and ``case`` in words. ValueError names a missing or unknown axis."""
+    from ..jobs.locations import is_url
+    from ..jobs.storage import COMPLETE, ResultFile
+    from ..jobs.zarr_store import is_zarr_location
+
+    store = is_zarr_location(path)
+    path = path if is_url(path) else Path(path)
+    if not store and (Path(str(path)).suffix.lower() not in (".h5", ".hdf5") or not Path(path).is_file()):
+        raise ValueError(f"--over takes a finished map (.h5 file or .zarr store), got {path}")
+    at = dict(at or {})
+    with ResultFile(path) as rf:
+        if int(rf.file_attrs.get(COMPLETE, 0)) != 1:
+            raise ValueError(f"{path} is not a finished fastbearing file (an interrupted run's .part?); "
+                             "finish it with --resume first")
+        lead = rf.dims("K")[:-2]
+        shape = rf.shape("K")[:-2]
+        if over not in lead:
+            raise ValueError(f"--over must be one of this file's axes: {', '.join(lead)}; got {over!r}")
+        if over in at:
+            raise ValueError(f"--at names {over}, the axis --over runs along: name only the other axes")
+        for dim, size in zip(lead, shape):  # an axis of one value: nothing to choose
+            if dim != over and dim not in at and size == 1:
+                at[dim] = float(np.asarray(rf.read(dim), float).reshape(-1)[0]) if rf.has(dim) else 0.0
+        values = np.asarray(rf.read(over), float).reshape(-1) if rf.has(over) else np.arange(shape[lead.index(over)])
+        cases, picked = [], ""
+        for v in values:
+            flat, said = _nearest_case(rf, {**at, over: float(v)})
+            cases.append(flat)
+            picked = picked or said
+        K = np.stack([rf.read("K", np.unravel_index(c, shape)) for c in cases])
+        coords = {k: (v[cases], u) for k, (v, u) in _case_coordinates(rf).items()}
+        results = {k: (v[cases], u) for k, (v, u) in _life_columns(rf).items()}
+        codes = (rf.read("status").reshape(-1)[cases] if rf.has("status") else np.zeros(len(cases), np.int8))
+    from .. import status as st
+
+    codes = np.asarray(codes).astype(np.int64)
+    fixed = ", ".join(part for part in picked.replace("--at picked ", "").rsplit(":", 1)[0].split(", ")
+                      if not part.startswith(f"{over}="))
+    case = (f"cases {', '.join(map(str, cases))} of {Path(str(path)).name}: Kb over {over} "
+            f"({values[0]:g} to {values[-1]:g}, {len(values)} values)" + (f" at {fixed}" if fixed else ""))
+    return Source(K, [st.describe(int(c)) for c in codes], {}, coords, picked="", codes=codes, results=results,
+                  case=case)
+
+
 def _solve_results(body: dict) -> dict:
     """A solve's load f (Fx ... My: the load on the inner ring, N and N*mm; with --fix the reactions there)
     and shaft speed (rpm) as one-case results, where its JSON has them."""
@@ -718,16 +767,53 @@ def ross_arguments(K, node: int = 0) -> dict:
             "units": "N/m (SI, as ROSS expects); damping not modelled by fastbearing (cxx = 0)"}
 
 
+def ross_speed_arguments(K, speeds_rpm, node: int = 0) -> dict:
+    """Keyword arguments of ROSS's frequency-dependent ``BearingElement`` from Kb over shaft speed: kxx, kxy,
+    kyx, kyy, kzz as lists in N/m (SI) over ``frequency``, the speeds in rad/s (``speeds_rpm`` in rpm, one
+    per matrix of K (n, 5, 5), n >= 2, increasing), cxx zeros (no damping), plus a "units" note. ROSS
+    drops the same entries as for one matrix (:func:`ross_dropped`): a warning names them at the speed of the
+    largest tilt stiffness (the file's "dropped" says them at every speed)."""
+    Ks = _as_matrices(K)
+    rpm = np.asarray(speeds_rpm, float).reshape(-1)
+    if len(rpm) != len(Ks) or len(Ks) < 2:
+        raise ValueError(f"ROSS over speed needs one speed per matrix and at least 2, got {len(rpm)} speeds "
+                         f"for {len(Ks)} matrices")
+    if not np.all(np.isfinite(rpm)) or np.any(rpm < 0) or np.any(np.diff(rpm) <= 0):
+        raise ValueError("speed must be finite, >= 0 rpm and increasing along --over")
+    if isinstance(node, bool) or not isinstance(node, (int, np.integer)) or node < 0:
+        raise ValueError(f"node must be a shaft node number >= 0, got {node!r}")
+    dropped = [ross_dropped(k) for k in Ks]
+    if any(d[1] for d in dropped):
+        sizes = [max(abs(noise_as_zero(k)[i, j]) for i, j in ROSS_DROPPED_TILT) for k in Ks]  # N*mm/rad
+        worst = int(np.argmax(sizes))
+        warnings.warn(f"at {rpm[worst]:g} rpm (of {len(rpm)} speeds): {dropped[worst][0]}", stacklevel=2)
+    k = Ks * 1e3  # N/mm -> N/m
+    out = {"n": int(node)}
+    for name, (i, j) in zip(("kxx", "kxy", "kyx", "kyy", "kzz"), ROSS_KEPT):
+        out[name] = [float(v) for v in k[:, i, j]]
+    out["cxx"] = [0.0] * len(Ks)
+    out["frequency"] = [float(v) for v in rpm * 2.0 * np.pi / 60.0]
+    out["units"] = ("N/m (SI, as ROSS expects) over frequency in rad/s (the shaft speed); damping not modelled "
+                    "by fastbearing (cxx = 0)")
+    return out
+
+
 def write_ross(path, K, node: int = 0, overwrite=False, matrix: str = KB, source: str | None = None,
-               case: str = "") -> Path:
+               case: str = "", speeds_rpm=None) -> Path:
     """The :func:`ross_arguments` as JSON, for ``ross.BearingElement(**args)`` once fastbearing's notes
     (:data:`ROSS_NOTES`: "units"; "matrix", which matrix this is; "dropped", what ROSS drops of it;
-    "source", the file K was read from, and "case", which of its cases, where given) are removed."""
+    "source", the file K was read from, and "case", which of its cases, where given) are removed. With
+    ``speeds_rpm`` (one per matrix of K (n, 5, 5)): the frequency-dependent element of
+    :func:`ross_speed_arguments`, "dropped" then said at each speed."""
     path = Path(path)
     _check_output(path, overwrite)
-    args = ross_arguments(K, node)
+    if speeds_rpm is None:
+        args = ross_arguments(K, node)
+        args["dropped"] = ross_dropped(K)[0]
+    else:
+        args = ross_speed_arguments(K, speeds_rpm, node)
+        args["dropped"] = [ross_dropped(k)[0] for k in _as_matrices(K)]
     args["matrix"] = matrix
-    args["dropped"] = ross_dropped(K)[0]
     if source:
         args["source"] = str(source)
     if case:
