@@ -174,8 +174,10 @@ def build_parser() -> argparse.ArgumentParser:
                            "OUT.h5.part, or in the store): continue with --resume."))
     p.add_argument("config", metavar="CONFIG.toml", help="config with [bearing] and [passage] tables")
     _add_job_arguments(p)
-    p.add_argument("--csv", action="store_true", help="also write OUT_point0000.csv ... (one per operating "
-                   "point: cage angle in rad, time in s if a speed is given, the 15 independent Kb entries)")
+    p.add_argument("--csv", action="store_true", help="also write OUT_point0000.csv ... beside the output and "
+                   "named after it, one per operating point, as export --format csv writes them: the point's inputs "
+                   "(N, N*mm or mm, rad), position, cage angle (rad), time (s) with a speed, status, all 25 Kb "
+                   "entries (kxx_N_per_mm ...)")
     _add_plot_parsers(sub)
     r = sub.add_parser("paper", help="recompute Gunduz & Singh (2013): Figs. 6-14 (PNG) and a report",
                        description=(
@@ -210,9 +212,11 @@ def build_parser() -> argparse.ArgumentParser:
                             "matrices: pick one bearing's Kb with --bearing or the shaft's K_system with --system; "
                             "every output says which matrix it holds. csv/json/npz take every case of a file, "
                             "each with its coordinates (Fx ... My or dx ... by, with units) and status (code and "
-                            "name); CSV column names end in their units (Fx_N, kxx_N_per_mm) under one header row. "
-                            "dmig and ross take one case (--case, the flat case index, or --at, the nearest grid "
-                            "point)."))
+                            "name), a map's lives and a solve's load and speed; CSV column names end in their "
+                            "units (Fx_N, kxx_N_per_mm, L10r_million_revolutions) under one header row. dmig and "
+                            "ross take one case (--case, the flat case index, or --at, the nearest grid point) and "
+                            "record it with the source file; --over AXIS takes a map's Kb along one axis (ross: "
+                            "--over speed, ROSS's coefficients over frequency in rad/s)."))
     ex.add_argument("source", metavar="SOURCE", help="a .json from solve/shaft --json, or a .h5 map or table, or a .zarr store")
     ex.add_argument("--format", required=True, choices=EXPORT_FORMATS, help="output format")
     ex.add_argument("-o", "--output", required=True, metavar="OUT", help="output file")

@@ -433,9 +433,10 @@ def passage(config, output=None, *, threads=None, resume=False, overwrite=False,
     overwrite : bool
         Replace existing output files or discard an unfinished run.
     csv_files : bool
-        Also write ``OUTPUT_point0000.csv`` ...: one per operating point, with
-        cage angle (rad), time (s, if a speed is given) and the 15
-        independent Kb entries (N/mm, N*mm/rad, N/rad), from the finished file.
+        Also write ``OUTPUT_point0000.csv`` ... (named after the output): one per operating point, from the
+        finished file, in the dialect of ``fastbearing export --format csv``: the point's inputs (N, N*mm or
+        mm, rad), position, cage angle (rad), time (s, if a speed is given), status, all 25 Kb entries (N/mm,
+        N*mm/rad, N/rad), status name and matrix.
     progress : bool, optional
         Progress bar on stderr (default: only when stderr is a terminal).
     as_dataset : bool
