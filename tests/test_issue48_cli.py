@@ -94,6 +94,14 @@ def test_every_life_output_says_where_C_comes_from(tmp_path):
     text = cli_run("bearing", "QJ210").stdout
     assert f"({ISO_C})" in text and "load ratings: C = " in text
     assert "load_ratings" not in bearing_report(fb.load_bearing("gunduz2013"))
+    # shaft --life: each bearing's life line, and its JSON
+    from pathlib import Path
+
+    shaft = Path(__file__).resolve().parents[1] / "data" / "examples" / "shaft-cylindrical-and-ball.toml"
+    text = cli_run("shaft", shaft, "--life").stdout
+    assert text.count(f"; C: {CATALOGUE_C}") == 2
+    lives = [b["life"] for b in json.loads(cli_run("shaft", shaft, "--life", "--json").stdout)["bearings"]]
+    assert [lf["C_source"] for lf in lives] == [CATALOGUE_C] * 2
     # a map's attributes where it stores life
     config = tmp_path / "map.toml"
     config.write_text('bearing = "6205"\n[loadmap]\nlife = true\nFx = [100.0, 1000.0, 2]\nFy = 0.0\nFz = 0.0\n'
