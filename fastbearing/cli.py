@@ -28,6 +28,8 @@ from .report.plot import NORMALISE, PASSAGE_X
 
 EXIT_USAGE = 2
 
+_BEARING_HELP = "a shipped bearing by name (fastbearing bearings lists them) or a bearing file"
+
 _K_UNITS = "N/mm among x, y, z; N*mm/rad among tx, ty; N/rad between the two"
 
 
@@ -72,8 +74,11 @@ def json_text(obj) -> str:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = _Parser(prog="fastbearing", description="Stiffness matrices of angular contact ball bearings "
-                     "(Gunduz & Singh 2013). Units: N, mm, rad.")
+    parser = _Parser(prog="fastbearing", description=(
+        "Stiffness matrices (5x5 Kb) of rolling bearings: deep-groove, angular contact (single, DB, DF, DT) and "
+        "four-point ball bearings, cylindrical and tapered roller bearings (TDO, TDI), at rest and at shaft speed; "
+        "load maps of millions of cases, ball-passage tables, defects and fault frequencies, ISO 281 life, shafts "
+        "on several bearings, mounting, and exports to Nastran DMIG, ROSS and CSV. Units: N, mm, rad."))
     from . import __version__
 
     parser.add_argument("--version", action="version", version=f"fastbearing {__version__}")
@@ -85,7 +90,7 @@ def build_parser() -> argparse.ArgumentParser:
         "sign must be attached with '=': --load=-1000,0,3000,0,0"))
     which = p.add_mutually_exclusive_group(required=True)
     which.add_argument("--preset", choices=preset_names(), help="a shipped bearing (with --arrangement)")
-    which.add_argument("--bearing", metavar="FILE.toml", help="a bearing file with a [bearing] table")
+    which.add_argument("--bearing", metavar="NAME|FILE.toml", help=_BEARING_HELP)
     p.add_argument("--arrangement", choices=ARRANGEMENTS,
                    help="arrangement for --preset (default: the preset's own, DB for gunduz2013)")
     given = p.add_mutually_exclusive_group(required=True)
@@ -128,7 +133,7 @@ def build_parser() -> argparse.ArgumentParser:
                            "table the catalogue inputs and both race contacts. With --speed, also the fault "
                            "frequencies (FTF, BPFO, BPFI, BSF, ball defect = 2 BSF) in Hz and as orders of the "
                            "shaft speed, from the geometry's ball and pitch diameters and contact angle."))
-    b.add_argument("file", metavar="FILE.toml", help="a bearing file with a [bearing] table")
+    b.add_argument("file", metavar="NAME|FILE.toml", help=_BEARING_HELP)
     b.add_argument("--json", action="store_true", help="print one JSON object on stdout (with --speed: the fault "
                    "frequencies under fault_frequencies, name -> {hz, order}, and what they assume under "
                    "fault_frequency_conditions)")
@@ -139,6 +144,16 @@ def build_parser() -> argparse.ArgumentParser:
     b.add_argument("--load", metavar="Fx,Fy,Fz,Mx,My", help="with --speed: use the loaded contact angle at this load "
                    "on the inner ring (N, N, N, N*mm, N*mm; the mean over the loaded balls of a quasi-static solve) "
                    "instead of the nominal one")
+    c = sub.add_parser("bearings", help="the shipped bearings: type, d x D x B (mm), C, C0 (N) and where each "
+                       "comes from", description=(
+                           "List the bearings shipped with fastbearing (fastbearing/catalogue/NAME.toml): name, "
+                           "type, nominal contact angle (deg), boundary dimensions d x D x B (mm), basic load "
+                           "ratings C and C0 (N), and where each number comes from (the catalogue, or ISO 281 / "
+                           "ISO 76 from the file's geometry). Give a NAME wherever a bearing file is asked for: "
+                           "--bearing NAME, fastbearing bearing NAME, bearing = \"NAME\" in a config."))
+    c.add_argument("--json", action="store_true", help="print one JSON list, an object per bearing (name, type, "
+                   "element, arrangement, contact_angle_deg, bore, outer_diameter, width in mm, C, C0 in N, "
+                   "sources, units, file)")
     m = sub.add_parser("loadmap", help="Kb over a grid or table of loads or displacements, to HDF5 or zarr",
                        description=(
                            "Compute a load map: Kb (and q, f, status, load distribution) at every case of the "
@@ -159,8 +174,10 @@ def build_parser() -> argparse.ArgumentParser:
                            "OUT.h5.part, or in the store): continue with --resume."))
     p.add_argument("config", metavar="CONFIG.toml", help="config with [bearing] and [passage] tables")
     _add_job_arguments(p)
-    p.add_argument("--csv", action="store_true", help="also write OUT_point0000.csv ... (one per operating "
-                   "point: cage angle in rad, time in s if a speed is given, the 15 independent Kb entries)")
+    p.add_argument("--csv", action="store_true", help="also write OUT_point0000.csv ... beside the output and "
+                   "named after it, one per operating point, as export --format csv writes them: the point's inputs "
+                   "(N, N*mm or mm, rad), position, cage angle (rad), time (s) with a speed, status, all 25 Kb "
+                   "entries (kxx_N_per_mm ...)")
     _add_plot_parsers(sub)
     r = sub.add_parser("paper", help="recompute Gunduz & Singh (2013): Figs. 6-14 (PNG) and a report",
                        description=(
@@ -195,9 +212,11 @@ def build_parser() -> argparse.ArgumentParser:
                             "matrices: pick one bearing's Kb with --bearing or the shaft's K_system with --system; "
                             "every output says which matrix it holds. csv/json/npz take every case of a file, "
                             "each with its coordinates (Fx ... My or dx ... by, with units) and status (code and "
-                            "name); CSV column names end in their units (Fx_N, kxx_N_per_mm) under one header row. "
-                            "dmig and ross take one case (--case, the flat case index, or --at, the nearest grid "
-                            "point)."))
+                            "name), a map's lives and a solve's load and speed; CSV column names end in their "
+                            "units (Fx_N, kxx_N_per_mm, L10r_million_revolutions) under one header row. dmig and "
+                            "ross take one case (--case, the flat case index, or --at, the nearest grid point) and "
+                            "record it with the source file; --over AXIS takes a map's Kb along one axis (ross: "
+                            "--over speed, ROSS's coefficients over frequency in rad/s)."))
     ex.add_argument("source", metavar="SOURCE", help="a .json from solve/shaft --json, or a .h5 map or table, or a .zarr store")
     ex.add_argument("--format", required=True, choices=EXPORT_FORMATS, help="output format")
     ex.add_argument("-o", "--output", required=True, metavar="OUT", help="output file")
@@ -206,6 +225,11 @@ def build_parser() -> argparse.ArgumentParser:
                     help="the case of a .h5 source nearest to these coordinates, every varying axis named in "
                          "its units (N, N*mm; mm, rad), e.g. --at Fx=1000,Fz=3000,My=0; a table's own dims "
                          "by index: --at point=3,position=0; a value outside an axis' range is refused")
+    ex.add_argument("--over", metavar="AXIS", default=None,
+                    help="a map (.h5, .zarr): Kb along this axis, every other varying axis fixed with --at in "
+                         "its units; --format ross takes --over speed: kxx, kxy, kyx, kyy, kzz (N/m) as lists over "
+                         "frequency (the speeds in rad/s), ROSS's frequency-dependent BearingElement; csv, json "
+                         "and npz take any axis")
     ex.add_argument("--bearing", default=None, metavar="NAME|N",
                     help="shaft --json source: export this bearing's own Kb (about its centre; N/mm, N*mm/rad, "
                          "N/rad), by its name or its index in the JSON's bearings list")
@@ -379,7 +403,7 @@ def _add_plot_parsers(sub) -> None:
     common(z, file=False)
     which = z.add_mutually_exclusive_group(required=True)
     which.add_argument("--preset", choices=preset_names(), help="a shipped bearing (with --arrangement)")
-    which.add_argument("--bearing", metavar="FILE.toml", help="a bearing file with a [bearing] table")
+    which.add_argument("--bearing", metavar="NAME|FILE.toml", help=_BEARING_HELP)
     z.add_argument("--arrangement", choices=ARRANGEMENTS, help="arrangement for --preset")
     given = z.add_mutually_exclusive_group(required=True)
     given.add_argument("--load", metavar="Fx,Fy,Fz,Mx,My", help="load: N, N, N, N*mm, N*mm (solved for q)")
@@ -472,17 +496,20 @@ def _shaft(args) -> int:
     if out.get("fixed"):
         print(f"fixed at the reference: {', '.join(out['fixed'])}; the holder's reaction there (N, N, N, N*mm, N*mm) "
               + "  ".join(f"{v:.6g}" for v in out["holder_reaction"]))
+    from .report.export import noise_as_zero
+
     print(_matrix("K_system at the reference", result.K_system))
     for i, b in enumerate(result.bearings):
         name = shaft.bearings[i].name or f"bearing {i}"
         print(f"{name} at z = {b.position:g} mm: reaction (N, N, N, N*mm, N*mm) "
               + "  ".join(f"{v:.6g}" for v in b.reaction))
         print("  q (mm, rad): " + "  ".join(f"{v:.6g}" for v in b.q))
-        print("  Kb diagonal (N/mm, N/mm, N/mm, N*mm/rad, N*mm/rad): " + "  ".join(f"{v:.6g}" for v in np.diag(b.K)))
+        print("  Kb diagonal (N/mm, N/mm, N/mm, N*mm/rad, N*mm/rad): " + "  ".join(f"{v:.6g}" for v in np.diag(noise_as_zero(b.K))))
         if "life" in out["bearings"][i]:
             lf = out["bearings"][i]["life"]
             print(f"  life: L10r = {lf['L10r']:.6g} million revolutions (ISO/TS 16281); L10 = "
-                  + ("-" if lf["L10"] is None else f"{lf['L10']:.6g}") + " (ISO 281)")
+                  + ("-" if lf["L10"] is None else f"{lf['L10']:.6g}") + " (ISO 281)"
+                  + (f"; C: {lf['C_source']}" if lf.get("C_source") else ""))
     if "system_L10r" in out:
         hours = "" if out["system_L10r_hours"] is None else f" ({out['system_L10r_hours']:.6g} h)"
         print(f"system life (weakest link of the bearings' L10r): {out['system_L10r']:.6g} million revolutions{hours}")
@@ -496,7 +523,10 @@ def _shaft(args) -> int:
 def _matrix(title, K) -> str:
     labels = ("x", "y", "z", "tx", "ty")
     lines = [f"{title} ({_K_UNITS}):", "      " + "".join(f"{n:>14s}" for n in labels)]
-    for name, row in zip(labels, np.asarray(K) + 0.0):  # + 0.0: an exact zero coupling shows as 0, not -0
+    from .report.export import noise_as_zero
+
+    # round-off (an entry below 1e-12 of its row's largest) shows as 0, and an exact zero as 0, not -0
+    for name, row in zip(labels, noise_as_zero(K)):
         lines.append(f"{name:>4s}  " + "".join(f"{v:14.6g}" for v in row))
     return "\n".join(lines)
 
@@ -516,8 +546,18 @@ def _export(args) -> int:
         raise ValueError("--grid, --ground-grid and --name go with --format dmig")
     if args.format != "ross" and args.node != 0:
         raise ValueError("--node goes with --format ross")
-    source = export.read_source(args.source, args.case, None if args.at is None else export.parse_at(args.at),
-                                bearing=args.bearing, system=args.system)
+    at = None if args.at is None else export.parse_at(args.at)
+    if args.over is not None:
+        if args.format == "dmig":
+            raise ValueError("--over goes with --format ross, csv, json or npz (a DMIG matrix holds one case)")
+        if args.format == "ross" and args.over != "speed":
+            raise ValueError(f"--format ross takes --over speed (ROSS's coefficients run over frequency), got "
+                             f"--over {args.over}")
+        if args.case is not None or args.bearing is not None or args.system:
+            raise ValueError("--over picks its cases itself: --case, --bearing and --system do not go with it")
+        source = export.read_series(args.source, args.over, at)
+    else:
+        source = export.read_source(args.source, args.case, at, bearing=args.bearing, system=args.system)
     if source.picked:
         print(f"fastbearing: {source.picked}", file=sys.stderr)
     K = source.K[0] if source.K.ndim == 3 and len(source.K) == 1 else source.K
@@ -525,12 +565,14 @@ def _export(args) -> int:
         raise ValueError(f"{args.source}: K is not finite (a case that did not solve)")
     bad = source.unconverged
     if args.format in ("dmig", "ross"):
-        if np.ndim(K) == 3:
+        if np.ndim(K) == 3 and args.over is None:
             raise ValueError(f"--format {args.format} takes one matrix: pick a case of {Path(args.source).name} "
                              "with --case N or --at AXIS=VALUE,...")
         if bad:
-            raise ValueError(f"{args.source}: the case's solve did not converge (status {source.status[0]}); "
-                             f"a {args.format} model would take its Kb as true")
+            raise ValueError(f"{args.source}: " + (f"the case's solve did not converge (status {source.status[0]})"
+                             if args.over is None else f"{len(bad)} of the {len(source.status)} cases along "
+                             f"{args.over} did not converge (first: {source.status[bad[0]]})")
+                             + f"; a {args.format} model would take its Kb as true")
     elif bad:
         print(f"fastbearing: warning: {len(bad)} of {len(source.status)} cases did not converge "
               f"(first: case {bad[0]}, {source.status[bad[0]]}); their Kb is written as computed",
@@ -538,18 +580,19 @@ def _export(args) -> int:
     codes = None if source.codes is None else (source.codes[0] if np.ndim(K) == 2 else source.codes)
     if args.format == "csv":
         export.write_csv(out, K, overwrite=args.overwrite, coords=source.coords, status=codes,
-                         matrix=source.matrix)
+                         matrix=source.matrix, results=source.results)
     elif args.format == "json":
         export.write_json(out, K, overwrite=args.overwrite, extra=source.extra, coords=source.coords,
-                          status=codes, matrix=source.matrix)
+                          status=codes, matrix=source.matrix, results=source.results)
     elif args.format == "npz":
         export.write_npz(out, K, overwrite=args.overwrite, coords=source.coords, status=codes,
-                         matrix=source.matrix)
+                         matrix=source.matrix, results=source.results)
     elif args.format == "dmig":
         if args.grid < 1 or (args.ground_grid is not None and (args.ground_grid < 1 or args.ground_grid == args.grid)):
             raise ValueError("--grid and --ground-grid must be different positive grid ids")
         export.write_dmig(out, K, grid=args.grid, name=args.name, ground_grid=args.ground_grid,
-                          overwrite=args.overwrite, matrix=source.matrix, centre=source.centre)
+                          overwrite=args.overwrite, matrix=source.matrix, centre=source.centre,
+                          source=args.source, case=source.case)
     else:
         if args.node < 0:
             raise ValueError(f"--node must be a shaft node number >= 0, got {args.node}")
@@ -557,7 +600,9 @@ def _export(args) -> int:
 
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
-            export.write_ross(out, K, node=args.node, overwrite=args.overwrite, matrix=source.matrix)
+            export.write_ross(out, K, node=args.node, overwrite=args.overwrite, matrix=source.matrix,
+                              source=args.source, case=source.case,
+                              speeds_rpm=None if args.over is None else source.coords["speed"][0])
         for w in caught:
             print(f"fastbearing: warning: {w.message}", file=sys.stderr)
     print(f"fastbearing: wrote {out} ({source.matrix})", file=sys.stderr)
@@ -603,6 +648,15 @@ def _bearing_command(args) -> int:
         print(bearing_report_text(rep, bearing))
         if faults is not None:
             print(fault_frequency_text(faults))
+    return 0
+
+
+def _bearings(args) -> int:
+    """`fastbearing bearings [--json]`: the shipped bearings (fastbearing/catalogue/*.toml)."""
+    from .report.catalogue import shipped_bearings, shipped_bearings_text
+
+    entries = shipped_bearings()
+    print(json_text(entries) if args.json else shipped_bearings_text(entries))
     return 0
 
 
@@ -809,6 +863,8 @@ def _life_text(life: dict) -> str:
                      f"  Q_ei = {g(life['Q_ei'][k])}  Q_ee = {g(life['Q_ee'][k])}  L10r = {g(L)}{hours(L)}")
     lines.append(f"  bearing: C = {g(life['C'])}  C0 = {g(life['C0'])}  P = {g(life['P'])}  P0 = {g(life['P0'])}"
                  f"  S0 = {g(life['static_safety'])}")
+    if life.get("C_source"):
+        lines.append(f"  C: {life['C_source']}; C0: {life['C0_source']}")
     lines.append(f"  L10 (ISO 281) = {g(life['L10'])}{hours(life['L10'])}  L10r (ISO/TS 16281) = {g(life['L10r'])}"
                  f"{hours(life['L10r'])}")
     if life["max_contact_pressure"] is not None:
@@ -840,7 +896,8 @@ def main(argv=None) -> int:
         with CompileWatch(), warnings.catch_warnings():
             warnings.showwarning = _show_warning
             return {"solve": _solve, "bearing": _bearing_command, "loadmap": _loadmap, "passage": _passage,
-                    "plot": _plot, "paper": _paper, "shaft": _shaft, "export": _export}[args.command](args)
+                    "plot": _plot, "paper": _paper, "shaft": _shaft, "export": _export,
+                    "bearings": _bearings}[args.command](args)
     except DiskFull as err:
         print(str(err), file=sys.stderr)
         return 1
@@ -867,7 +924,7 @@ def main(argv=None) -> int:
         return EXIT_USAGE
 
 
-_COMMANDS = ("solve", "bearing", "loadmap", "passage", "plot", "paper", "shaft", "export")
+_COMMANDS = ("solve", "bearing", "bearings", "loadmap", "passage", "plot", "paper", "shaft", "export")
 
 
 #: The commands that run kernels (and so start numba's compiler contexts).

@@ -11,6 +11,7 @@ from conftest import cli_run
 
 import fastbearing as fb
 from fastbearing.jobs.passage import fourier, read_config
+from fastbearing.report.export import K_COLUMNS, read_csv
 
 
 def run(tmp_path, passage_body, bearing='preset = "gunduz2013"\narrangement = "DB"', name="p", **kw):
@@ -171,9 +172,13 @@ def test_time_axis_csv_and_cli(tmp_path):
     np.testing.assert_allclose(ds["frequency"].values, np.arange(9)[:5] * 14 * fc)
     with open(tmp_path / "t_point0001.csv") as fh:
         rows = list(csv.reader(fh))
-    assert rows[0][:4] == ["position", "cage_angle_rad", "time_s", "kxx_N/mm"] and len(rows) == 9
-    assert len(rows[0]) == 3 + 15 and "ktyty_N*mm/rad" in rows[0]
-    assert float(rows[3][rows[0].index("kzz_N/mm")]) == ds["K"].values[1, 2, 2, 2]
+    # the export's dialect (report/export.py's write_csv): the point's inputs, position, angle, time, status, 25 entries
+    assert rows[0][:11] == ["case", "dx_mm", "dy_mm", "dz_mm", "bx_rad", "by_rad", "point", "position",
+                            "cage_angle_rad", "time_s", "status"] and len(rows) == 9
+    assert rows[0][11:] == [*K_COLUMNS, "status_name", "matrix"] and "ktyty_N_mm_per_rad" in rows[0]
+    assert float(rows[3][rows[0].index("kzz_N_per_mm")]) == ds["K"].values[1, 2, 2, 2]
+    assert rows[3][0] == "10" and float(rows[3][rows[0].index("dz_mm")]) == 0.02  # the file's flat case number
+    np.testing.assert_array_equal(read_csv(tmp_path / "t_point0001.csv"), ds["K"].values[1])
     again = cli_run("passage", cfg, "--csv")
     assert again.returncode == 2 and "exists" in again.stderr
 

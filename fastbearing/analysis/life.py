@@ -399,6 +399,25 @@ class BearingRatings:
         return ROLLER_ROW_EXPONENT if self.rollers else ROW_EXPONENT
 
 
+#: Where a bearing's C and C0 come from, as every life output says it (:func:`rating_sources`).
+CATALOGUE_C = "catalogue value: the bearing file's dynamic_load_rating"
+CATALOGUE_C0 = "catalogue value: the bearing file's static_load_rating"
+ISO_C = "ISO 281 formula from the geometry"
+ISO_C0 = "ISO 76 formula from the geometry"
+
+
+def rating_sources(bearing) -> dict:
+    """{"C": ..., "C0": ...}: where :func:`ratings` takes the bearing's basic dynamic and static load ratings
+    from: the catalogue values the bearing file gives (``dynamic_load_rating``, ``static_load_rating`` in
+    ``[bearing.geometry]``, N), else ISO 281's and ISO 76's formulas from the geometry (ball or roller count,
+    diameter, length, contact angle, pitch diameter). None for a bearing without geometry (no rating)."""
+    g = getattr(bearing, "geometry", None)
+    if g is None:
+        return {"C": None, "C0": None}
+    return {"C": CATALOGUE_C if g.dynamic_load_rating is not None else ISO_C,
+            "C0": CATALOGUE_C0 if g.static_load_rating is not None else ISO_C0}
+
+
 def ratings(bearing) -> BearingRatings:
     """The load ratings of a bearing with ``[bearing.geometry]``; ValueError naming what is missing."""
     g = getattr(bearing, "geometry", None)
@@ -529,6 +548,8 @@ class LifeResult:
     speed: float | None
     notes: list
     weibull_slope: float = ROW_EXPONENT
+    C_source: str | None = None     # where C (and each row's C_row) comes from: rating_sources
+    C0_source: str | None = None
 
     def hours(self, life):
         return None if life is None or self.speed is None else life * 1e6 / (60.0 * self.speed)
@@ -536,7 +557,8 @@ class LifeResult:
     def to_dict(self) -> dict:
         out = {k: getattr(self, k) for k in ("C", "C0", "P", "P0", "L10", "L10r", "L10r_row", "C_row", "Q_ci", "Q_ce",
                                               "Q_ei", "Q_ee", "static_safety", "max_contact_pressure", "a_iso",
-                                              "L_nmr", "speed", "notes", "weibull_slope")}
+                                              "L_nmr", "speed", "notes", "weibull_slope", "C_source",
+                                              "C0_source")}
         out["L10_hours"], out["L10r_hours"] = self.hours(self.L10), self.hours(self.L10r)
         out["pressure_limit"] = ROLLER_PRESSURE_LIMIT if self.weibull_slope == ROLLER_ROW_EXPONENT else PRESSURE_LIMIT
         out["units"] = {"C": "N", "P": "N", "L10": "million revolutions", "L10_hours": "h", "speed": "rpm",
@@ -666,7 +688,7 @@ def life(bearing, load, q, settings: LifeSettings | None = None) -> LifeResult:
     return LifeResult(r.C, r.C0, P, P0, L10, L10r, L_rows.tolist(), r.C_row.tolist(), r.Q_ci.tolist(),
                       r.Q_ce.tolist(), Q_ei.tolist(), Q_ee.tolist(), S0,
                       None if pressure is None else float(pressure), a, L_nmr, settings.speed, notes,
-                      r.row_exponent)
+                      r.row_exponent, **{f"{k}_source": v for k, v in rating_sources(bearing).items()})
 
 
 def _ball_lives(bearing, q, r: BearingRatings, settings: LifeSettings):

@@ -28,7 +28,7 @@ from .. import boundary
 from ..dofs import AXES, UNITS
 from .grid import Axis, CaseSet, check_fixed_axes, fixed_mask, input_axes, parse_axis, read_case_file, segment_starts
 from .runner import open_dataset  # noqa: F401 (public: fb.open_dataset)
-from ..analysis.life import LifeSettings, iso_life, life_table, ratings
+from ..analysis.life import LifeSettings, iso_life, life_table, rating_sources, ratings
 from ..engine.sweep import map_sweep
 from ..engine.device import DEVICES, require_cuda
 
@@ -234,6 +234,8 @@ def job(cfg: LoadMapConfig, device: str = "cpu") -> jobs.Job:
         variables += storage.life_variables(iso=r.C is not None, hours=cfg.cases.has_speed)
         attrs |= {"life_rotating_ring": cfg.life.rotating, "dynamic_load_rating_N": r.C or float("nan"),
                  "static_load_rating_N": r.C0 or float("nan"),
+                 "dynamic_load_rating_source": rating_sources(cfg.bearing)["C"],
+                 "static_load_rating_source": rating_sources(cfg.bearing)["C0"],
                  "row_dynamic_load_rating_N": r.C_row, "contact_rating_inner_N": r.Q_ci,
                  "contact_rating_outer_N": r.Q_ce}
     return jobs.Job(

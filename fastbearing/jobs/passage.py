@@ -11,7 +11,6 @@ Units: N, mm, rad; time s; frequency Hz.
 
 from __future__ import annotations
 
-import csv
 import hashlib
 import json
 import math
@@ -30,8 +29,7 @@ from ..api import solver_settings
 from ..model.bearing import Bearing, check_speed, check_speed_model, rpm_to_rad_s
 from ..model.bearing_file import read_job_config
 from ..model.mounted import operating_attributes, operating_bearing
-from ..dofs import AXES, K_ENTRIES, K_UNITS, UNITS
-from ..files import publish
+from ..dofs import AXES, K_UNITS, UNITS
 from .grid import CaseSet, check_fixed_axes, fixed_mask, input_axes
 from ..analysis.faults import fault_frequencies, fault_orders
 from ..model.bearing import without_mirror_half
@@ -162,10 +160,27 @@ def read_config(config) -> PassageConfig:
             raise err.within("passage") from None
     speed = None
     speed_keys = [k for k in ("shaft_speed", "ball_diameter", "pitch_diameter") if k in spec]
-    if speed_keys:
+    own = _geometry_kinematics(bearing)
+    if speed_keys and own is not None and "shaft_speed" in spec:
+        # a bearing with [bearing.geometry]: its ball (or roller) and pitch diameters give the cage speed
+        for key, value in zip(("ball_diameter", "pitch_diameter"), own[:2]):
+            if key in spec:
+                given_value = validate.number(spec[key], f"passage.{key}", low=0, low_open=True, units="mm")
+                if not math.isclose(given_value, value, rel_tol=1e-12):
+                    raise validate.FieldError(f"passage.{key}", f"differs from [bearing.geometry]'s {value:g} mm: "
+                                              "leave it out (the bearing's geometry gives it)", given_value)
+        D, dm = own[:2]
+        rotating = validate.choice(spec.get("rotating", own[2]), "passage.rotating", ("inner", "outer"))
+        rpm = validate.number(spec["shaft_speed"], "passage.shaft_speed", low=0, low_open=True, units="rpm")
+        if model_speed > 0 and rpm != model_speed:
+            raise validate.FieldError("passage.shaft_speed", f"must equal passage.speed ({model_speed:g} rpm) "
+                                      "when both are given (or leave it out: the speed gives the time axis)", rpm)
+        speed = CageSpeed(rpm, D, dm, math.radians(bearing.rows[0].contact_angle), rotating)
+    elif speed_keys:
         if len(speed_keys) != 3:
             raise ValueError("passage: the time axis needs shaft_speed (rpm), ball_diameter and pitch_diameter "
-                             f"(mm) together; got only {speed_keys}")
+                             f"(mm) together (or shaft_speed alone for a bearing with [bearing.geometry]); got "
+                             f"only {speed_keys}")
         D = validate.number(spec["ball_diameter"], "passage.ball_diameter", low=0, low_open=True, units="mm")
         dm = validate.number(spec["pitch_diameter"], "passage.pitch_diameter", low=D, low_open=True, units="mm")
         rotating = validate.choice(spec.get("rotating", "inner"), "passage.rotating", ("inner", "outer"))
@@ -191,6 +206,16 @@ def read_config(config) -> PassageConfig:
     return PassageConfig(bearing, cases, positions, harmonics, speed, method, spec.get("rtol"),
                          spec.get("max_iter"), chunk, text, source, digest, model_speed, fixed, revolutions,
                          defects, kinematics, element_loads, operating_attrs)
+
+
+def _geometry_kinematics(bearing: Bearing):
+    """(ball or mean roller diameter in mm, pitch diameter in mm, the rotating ring) of a bearing with
+    [bearing.geometry], else None."""
+    g = bearing.geometry
+    element_diameter = getattr(g, "ball_diameter", None) or getattr(g, "roller_diameter", None)
+    if element_diameter is None:
+        return None
+    return element_diameter, g.pitch_diameter, getattr(g, "rotating", "inner")
 
 
 def _revolutions(spec: dict, bearing: Bearing, positions: int):
@@ -408,9 +433,10 @@ def passage(config, output=None, *, threads=None, resume=False, overwrite=False,
     overwrite : bool
         Replace existing output files or discard an unfinished run.
     csv_files : bool
-        Also write ``OUTPUT_point0000.csv`` ...: one per operating point, with
-        cage angle (rad), time (s, if a speed is given) and the 15
-        independent Kb entries (N/mm, N*mm/rad, N/rad), from the finished file.
+        Also write ``OUTPUT_point0000.csv`` ... (named after the output): one per operating point, from the
+        finished file, in the dialect of ``fastbearing export --format csv``: the point's inputs (N, N*mm or
+        mm, rad), position, cage angle (rad), time (s, if a speed is given), status, all 25 Kb entries (N/mm,
+        N*mm/rad, N/rad), status name and matrix.
     progress : bool, optional
         Progress bar on stderr (default: only when stderr is a terminal).
     as_dataset : bool
@@ -466,31 +492,29 @@ def passage(config, output=None, *, threads=None, resume=False, overwrite=False,
     out = jobs.run(job(cfg, device), out, threads=threads, resume=resume, overwrite=overwrite, progress=progress,
                    client=client, max_in_flight=max_in_flight)
     if csv_paths:
-        _write_csv_files(out, cfg, csv_paths)
+        _write_csv_files(out, cfg, csv_paths, overwrite)
     return jobs.open_dataset(out) if as_dataset else out
 
 
-def _write_csv_files(h5: Path, cfg: PassageConfig, paths: list[Path]) -> None:
-    """One CSV per operating point, read point by point from the finished file (memory: one point)."""
+def _write_csv_files(h5: Path, cfg: PassageConfig, paths: list[Path], overwrite: bool = False) -> None:
+    """One CSV per operating point, read point by point from the finished file (memory: one point), in the
+    export's dialect (report/export.py's :func:`~fastbearing.report.export.write_csv`, as `fastbearing export
+    --format csv` writes it): case, the point's inputs (Fx_N ... My_N_mm or dx_mm ... by_rad), position,
+    cage_angle_rad (and time_s, shaft_angle_rad where the table has them), status, all 25 Kb entries
+    (kxx_N_per_mm ...), status_name and matrix."""
+    from ..report.export import _case_coordinates, write_csv
     from .storage import ResultFile
 
     with ResultFile(h5) as rf:
+        shape = rf.shape("K")[:-2]
+        n = int(np.prod(shape[:-1]))          # operating points; the last dim is the position
+        per = shape[-1]
+        coords = _case_coordinates(rf)         # every case's coordinates, flat over (points..., position)
+        coords.setdefault("position", (np.tile(np.arange(per, dtype=float), n), "1"))
         for i, path in enumerate(paths):
-            _write_csv(path, cfg, rf.read("K", np.unravel_index(i, cfg.cases.shape)))
-
-
-def _write_csv(path: Path, cfg: PassageConfig, K: np.ndarray) -> None:
-    """One operating point: position, cage angle (rad), time (s) if known, then the 15 Kb entries."""
-    header = ["position", "cage_angle_rad"] + (["time_s"] if cfg.speed else []) + [e[2] for e in K_ENTRIES]
-    angles = cfg.cage_angles
-    times = angles / (2 * math.pi * cfg.speed.cage_frequency) if cfg.speed else None
-
-    def write(tmp):
-        with open(tmp, "w", newline="") as fh:
-            w = csv.writer(fh)
-            w.writerow(header)
-            for p in range(K.shape[0]):
-                row = [p, repr(float(angles[p]))] + ([repr(float(times[p]))] if times is not None else [])
-                w.writerow(row + [repr(float(K[p, i, j])) for i, j, _ in K_ENTRIES])
-
-    publish(path, write)
+            index = np.unravel_index(i, shape[:-1])
+            cases = slice(i * per, (i + 1) * per)
+            status = rf.read("status", index).reshape(-1) if rf.has("status") else None
+            write_csv(path, rf.read("K", index), overwrite=overwrite, status=status,
+                      coords={name: (values[cases], units) for name, (values, units) in coords.items()},
+                      first_case=i * per)

@@ -31,7 +31,8 @@ def bearing_report(bearing, speed=None) -> dict:
     row's (lengths mm, angles deg and rad, Kn N/mm^n; a four-point row as its two contact pairs, each with
     ``element`` "four_point_ball" and ``pair`` +1 or -1, and ``four_point_rows`` the pairs' row indices), the
     load-centre spread of a double row (mm), the catalogue geometry's and both race contacts' where the
-    bearing has one, and its speed limit (rpm) where it can run at speed."""
+    bearing has one, with its load ratings (``load_ratings``: C, C0, C_row, C0_row in N and where C and C0
+    come from; None where life does not rate it), and its speed limit (rpm) where it can run at speed."""
     rows = [r.report() for r in bearing.rows]  # each element kind reports its own row
     out = {"name": bearing.name, "arrangement": bearing.arrangement, "rows": rows}
     pairs = [i for i, r in enumerate(rows) if r.get("element") == FOUR_POINT and r["pair"] == 1]
@@ -63,6 +64,8 @@ def bearing_report(bearing, speed=None) -> dict:
                                 "curvature_sum": c.curvature_sum, "curvature_ratio": max(c.curvature_x, c.curvature_y)
                                 / min(c.curvature_x, c.curvature_y)}
                          for side, c in (("inner", inner), ("outer", outer))}}
+    if g is not None:
+        out["load_ratings"] = _load_ratings(bearing)
     try:
         check_speed_model(bearing)
     except ValueError:  # roller rows, or no geometry: no high-speed model, no speed limit
@@ -74,6 +77,28 @@ def bearing_report(bearing, speed=None) -> dict:
         _, budget = operating_bearing(bearing, 0.0 if speed is None else speed)
         out["mounting"] = budget
     return out
+
+
+def _load_ratings(bearing) -> dict | None:
+    """The basic load ratings life uses (N): the bearing's C and C0 as a unit (None for a set ISO does not rate
+    as one), one row's C_row and C0_row, and where C and C0 come from (catalogue value or ISO formula,
+    :func:`fastbearing.analysis.life.rating_sources`); None where the bearing is not rated (life refuses it)."""
+    from ..analysis.life import rating_sources, ratings
+
+    try:
+        r = ratings(bearing)
+    except ValueError:
+        return None
+    sources = rating_sources(bearing)
+    return {"C": r.C, "C0": r.C0, "C_row": float(r.C_row[0]), "C0_row": float(r.C0_row[0]),
+            "C_source": sources["C"], "C0_source": sources["C0"], "units": "N"}
+
+
+def _load_ratings_text(lr: dict) -> list[str]:
+    if lr["C"] is not None:
+        return [f"load ratings: C = {lr['C']:.6g} N ({lr['C_source']}), C0 = {lr['C0']:.6g} N ({lr['C0_source']})"]
+    return [f"load ratings (rows, not rated as one unit): C_row = {lr['C_row']:.6g} N ({lr['C_source']}), "
+            f"C0_row = {lr['C0_row']:.6g} N ({lr['C0_source']})"]
 
 
 def bearing_report_text(rep: dict, bearing) -> str:
@@ -120,6 +145,8 @@ def bearing_report_text(rep: dict, bearing) -> str:
             lines.append(f"  {side} contact        K = {c['hertz_constant']:.6g} N/mm^1.5, k = a/b = "
                          f"{c['ellipticity']:.4g}, Ry/Rx = {c['curvature_ratio']:.4g}, "
                          f"sum rho = {c['curvature_sum']:.5g} 1/mm")
+    if rep.get("load_ratings"):
+        lines += _load_ratings_text(rep["load_ratings"])
     lines.append("model parameters:")
     for i, r in enumerate(rep["rows"]):
         if "element" in r and r["element"] != FOUR_POINT:  # a roller row

@@ -39,7 +39,23 @@ KB = "bearing stiffness Kb"
 #: Where a bearing's Kb acts (DMIG placement note).
 KB_CENTRE = "the bearing centre"
 #: The keys of a ROSS export that are fastbearing's notes, not BearingElement arguments.
-ROSS_NOTES = ("units", "matrix", "dropped")
+ROSS_NOTES = ("units", "matrix", "dropped", "source", "case")
+
+
+#: An entry below this fraction of its row's largest |entry| is round-off noise (an exact zero computed as
+#: 1e-26, say): printed as 0 and not reported as a coupling ROSS drops.
+NOISE = 1e-12
+
+
+def noise_as_zero(K, rel: float = NOISE) -> np.ndarray:
+    """A copy of ``K`` (5x5, or N x 5 x 5; any units) with every entry whose magnitude is below ``rel`` times
+    the largest magnitude of its row set to 0 (and -0 to 0): the matrix as printed. A row that is all zero
+    stays so; non-finite entries are kept as they are."""
+    K = np.array(K, dtype=float)
+    finite = np.isfinite(K)
+    scale = np.max(np.where(finite, np.abs(K), 0.0), axis=-1, keepdims=True)
+    K[finite & (np.abs(K) < rel * scale)] = 0.0
+    return K + 0.0
 
 
 def units_suffix(units: str) -> str:
@@ -64,7 +80,11 @@ class Source:
     JSON exports. ``picked`` describes the case chosen by ``--at`` (empty otherwise). ``codes``: each case's
     integer status code (fastbearing.status) where the source stores them (a .h5 file), else None.
     ``matrix`` says which matrix K is (e.g. "bearing stiffness Kb", a shaft bearing's Kb, a shaft's
-    K_system) and ``centre`` where it acts (the point a DMIG grid must sit at)."""
+    K_system) and ``centre`` where it acts (the point a DMIG grid must sit at). ``results``: what the source
+    computed beside K for each case, name -> (values (N,), units): a map's rating lives (L10r, L10r_row0 ...,
+    static_safety, L10, L10r_hours, L10_hours) where it has them, a solve's load f (Fx ... My) and speed.
+    ``case``: which case K is and where it comes from, in words (the source file, and the --case index or
+    --at values), for the files that hold one case (DMIG, ROSS)."""
 
     K: np.ndarray
     status: list[str]
@@ -74,6 +94,8 @@ class Source:
     codes: np.ndarray | None = None
     matrix: str = KB
     centre: str = KB_CENTRE
+    results: dict = field(default_factory=dict)
+    case: str = ""
 
     @property
     def unconverged(self) -> list[int]:
@@ -149,12 +171,18 @@ def read_source(path, case: int | None = None, at: dict | None = None, bearing: 
         status = body.get("status", "converged")
         status = status if isinstance(status, str) else "unknown"
         if "K_system" in body and "K" not in body:
-            return _shaft_source(path, body, status, bearing, system)
+            from dataclasses import replace
+
+            picked = _shaft_source(path, body, status, bearing, system)
+            return replace(picked, case=f"{picked.matrix}, from {path.name} (shaft --json)")
         if bearing is not None or system:
             raise ValueError(f"--{'bearing' if bearing is not None else 'system'} picks a matrix of a "
                              f"`shaft --json` output; {path.name} is a single bearing's (solve --json)")
         K = _matrix_field(body["K"], f"{path.name}: K")
-        return Source(K, [status], {k: body[k] for k in ("q", "f", "status") if k in body})
+        results = _solve_results(body)
+        point = ", ".join(f"{name} = {v[0]:g} {units}" for name, (v, units) in results.items())
+        return Source(K, [status], {k: body[k] for k in ("q", "f", "status") if k in body}, results=results,
+                      case=f"the operating point of {path.name} (solve --json)" + (f": {point}" if point else ""))
     if suffix not in (".h5", ".hdf5", ".zarr"):
         raise ValueError(f"SOURCE must be a .json or .h5 file or a .zarr store, got {path.name!r}")
     if bearing is not None or system:
@@ -171,6 +199,7 @@ def read_source(path, case: int | None = None, at: dict | None = None, bearing: 
         lead = rf.shape("K")[:-2]
         n = int(np.prod(lead))
         coords = _case_coordinates(rf)
+        results = _life_columns(rf)
         picked = ""
         if at is not None:
             case, picked = _nearest_case(rf, at)
@@ -181,13 +210,83 @@ def read_source(path, case: int | None = None, at: dict | None = None, bearing: 
             K = rf.read("K", np.unravel_index(case, lead))
             codes = codes[case:case + 1]
             coords = {k: (v[case:case + 1], u) for k, (v, u) in coords.items()}
+            results = {k: (v[case:case + 1], u) for k, (v, u) in results.items()}
         else:
             K = rf.read("K").reshape(-1, 5, 5)
     from .. import status as st
 
     codes = np.asarray(codes).astype(np.int64)
+    said = ""
+    if case is not None:
+        where = ", ".join(f"{name} = {v[0]:g}" + ("" if u in ("", "1") else f" {u}") for name, (v, u) in coords.items())
+        said = (f"case {case} of {Path(str(path)).name}" + (f" (--at picked {picked.split('picked ', 1)[1]})"
+                if picked else " (--case)") + (f": {where}" if where else ""))
     return Source(np.asarray(K, dtype=float), [st.describe(int(c)) for c in codes], {}, coords, picked,
-                  codes=codes)
+                  codes=codes, results=results, case=said)
+
+
+def read_series(path, over: str, at: dict | None = None) -> Source:
+    """Kb of a finished map (.h5 file or zarr store) along one of its axes: ``over`` names the axis (e.g.
+    "speed"), ``at`` the value of every other varying axis in its units (N, N*mm; mm, rad; rpm), the
+    nearest grid value taken as :func:`read_source` takes it (an axis of one value needs none). The Source
+    holds K (n, 5, 5) in the axis' order, each case's coordinates (the axis' values among them), status
+    and lives, and ``case`` in words. ValueError names a missing or unknown axis."""
+    from ..jobs.locations import is_url
+    from ..jobs.storage import COMPLETE, ResultFile
+    from ..jobs.zarr_store import is_zarr_location
+
+    store = is_zarr_location(path)
+    path = path if is_url(path) else Path(path)
+    if not store and (Path(str(path)).suffix.lower() not in (".h5", ".hdf5") or not Path(path).is_file()):
+        raise ValueError(f"--over takes a finished map (.h5 file or .zarr store), got {path}")
+    at = dict(at or {})
+    with ResultFile(path) as rf:
+        if int(rf.file_attrs.get(COMPLETE, 0)) != 1:
+            raise ValueError(f"{path} is not a finished fastbearing file (an interrupted run's .part?); "
+                             "finish it with --resume first")
+        lead = rf.dims("K")[:-2]
+        shape = rf.shape("K")[:-2]
+        if over not in lead:
+            raise ValueError(f"--over must be one of this file's axes: {', '.join(lead)}; got {over!r}")
+        if over in at:
+            raise ValueError(f"--at names {over}, the axis --over runs along: name only the other axes")
+        for dim, size in zip(lead, shape):  # an axis of one value: nothing to choose
+            if dim != over and dim not in at and size == 1:
+                at[dim] = float(np.asarray(rf.read(dim), float).reshape(-1)[0]) if rf.has(dim) else 0.0
+        values = np.asarray(rf.read(over), float).reshape(-1) if rf.has(over) else np.arange(shape[lead.index(over)])
+        cases, picked = [], ""
+        for v in values:
+            flat, said = _nearest_case(rf, {**at, over: float(v)})
+            cases.append(flat)
+            picked = picked or said
+        K = np.stack([rf.read("K", np.unravel_index(c, shape)) for c in cases])
+        coords = {k: (v[cases], u) for k, (v, u) in _case_coordinates(rf).items()}
+        results = {k: (v[cases], u) for k, (v, u) in _life_columns(rf).items()}
+        codes = (rf.read("status").reshape(-1)[cases] if rf.has("status") else np.zeros(len(cases), np.int8))
+    from .. import status as st
+
+    codes = np.asarray(codes).astype(np.int64)
+    fixed = ", ".join(part for part in picked.replace("--at picked ", "").rsplit(":", 1)[0].split(", ")
+                      if not part.startswith(f"{over}="))
+    case = (f"cases {', '.join(map(str, cases))} of {Path(str(path)).name}: Kb over {over} "
+            f"({values[0]:g} to {values[-1]:g}, {len(values)} values)" + (f" at {fixed}" if fixed else ""))
+    return Source(K, [st.describe(int(c)) for c in codes], {}, coords, picked="", codes=codes, results=results,
+                  case=case)
+
+
+def _solve_results(body: dict) -> dict:
+    """A solve's load f (Fx ... My: the load on the inner ring, N and N*mm; with --fix the reactions there)
+    and shaft speed (rpm) as one-case results, where its JSON has them."""
+    from ..dofs import LOAD_NAMES
+    from ..dofs import UNITS as DOF_UNITS
+
+    out = {}
+    f = body.get("f")
+    if isinstance(f, list) and len(f) == 5 and all(isinstance(v, (int, float)) for v in f):
+        out.update({name: (np.array([float(v)]), units) for name, v, units in zip(LOAD_NAMES, f, DOF_UNITS["load"])})
+    if isinstance(body.get("speed"), (int, float)):
+        out["speed"] = (np.array([float(body["speed"])]), "rpm")
+    return out
 
 
 def _shaft_source(path: Path, body: dict, status: str, bearing, system: bool) -> Source:
@@ -265,6 +364,30 @@ def _case_coordinates(rf) -> dict:
         dim = name if name in lead_dims else rf.dims(name)[0]
         if dim in lead_dims and rf.shape(name)[0] == shape[lead_dims.index(dim)]:
             out[name] = (broadcast(rf.read(name), lead_dims.index(dim)), units)
+    return out
+
+
+#: A map's life variables (storage.life_variables) that the CSV, JSON and npz exports carry per case.
+LIFE_COLUMNS = ("L10r", "L10r_row", "static_safety", "L10", "L10r_hours", "L10_hours")
+
+
+def _life_columns(rf) -> dict:
+    """Each case's rating lives where a map stores them, flattened as :func:`_case_coordinates`:
+    name -> (values (N,), units); a per-row variable (L10r_row) as one column per row (L10r_row0 ...).
+    {} for a file without life. ``rf``: a storage.ResultFile."""
+    lead_dims = rf.dims("K")[:-2]
+    n = int(np.prod(rf.shape("K")[:-2]))
+    out = {}
+    for name in LIFE_COLUMNS:
+        if not rf.has(name) or tuple(rf.dims(name)[:len(lead_dims)]) != tuple(lead_dims):
+            continue
+        units = str(rf.attrs(name).get("units", "1"))
+        values = np.asarray(rf.read(name), float).reshape(n, -1)
+        if values.shape[1] == 1 and rf.ndim(name) == len(lead_dims):
+            out[name] = (values[:, 0], units)
+        else:
+            for k in range(values.shape[1]):
+                out[f"{name}{k}"] = (values[:, k], units)
     return out
 
 
@@ -352,28 +475,36 @@ def _plain_text(text: str) -> str:
     return str(text).replace(",", ";").replace('"', "'").replace("#", "no.").replace("\n", " ")
 
 
-def csv_header(coords: dict | None = None, status: bool = False) -> list[str]:
+def csv_header(coords: dict | None = None, status: bool = False, results: dict | None = None) -> list[str]:
     """The CSV column names :func:`write_csv` writes: case, each coordinate with its units (Fx_N ... My_N_mm,
-    dx_mm ... by_rad, position, cage_angle_rad ...), status (the integer code) if given, the 25 K entries
-    (:data:`K_COLUMNS`), then the text columns status_name (if given) and matrix."""
+    dx_mm ... by_rad, position, cage_angle_rad ...), status (the integer code) if given, each result with its
+    units (L10r_million_revolutions, L10r_hours_h, speed_rpm ...), the 25 K entries (:data:`K_COLUMNS`), then
+    the text columns status_name (if given) and matrix."""
     names = ["case"] + [f"{name}{units_suffix(units)}" for name, (_, units) in (coords or {}).items()]
-    return names + (["status"] if status else []) + list(K_COLUMNS) + (["status_name"] if status else []) + ["matrix"]
+    names += ["status"] if status else []
+    names += [f"{name}{units_suffix(units)}" for name, (_, units) in (results or {}).items()]
+    return names + list(K_COLUMNS) + (["status_name"] if status else []) + ["matrix"]
 
 
-def write_csv(path, K, overwrite=False, coords: dict | None = None, status=None, matrix: str = KB) -> Path:
+def write_csv(path, K, overwrite=False, coords: dict | None = None, status=None, matrix: str = KB,
+              first_case: int = 0, results: dict | None = None) -> Path:
     """One row per matrix, under a single header row that ``pandas.read_csv(path)`` and
     ``numpy.genfromtxt(path, delimiter=",", names=True, dtype=None)`` read as it is (no comment line): the
     case index, what the case is (``coords``: name -> (values, units), e.g. Fx ... My), the case's integer
     ``status`` code (fastbearing.status, if given), the 25 entries K_ij in row-major DOF order (x, y, z, tx,
     ty), then the status names (e.g. "converged+beyond_validity") and ``matrix`` (which matrix this is).
     Every numeric column's name ends in its units: Fx_N, My_N_mm, dx_mm, bx_rad, kxx_N_per_mm (N/mm),
-    kxtx_N_per_rad (N/rad), ktxty_N_mm_per_rad (N*mm/rad)."""
+    kxtx_N_per_rad (N/rad), ktxty_N_mm_per_rad (N*mm/rad). ``results`` (name -> (values, units): a map's
+    lives, a solve's load and speed) follow the status, before the K entries. ``first_case``: the case index of the first row
+    (a part of a file's cases keeps the file's flat case numbers, as `export --case` takes them)."""
     path = Path(path)
     _check_output(path, overwrite)
     Ks = _as_matrices(K)
     columns = _coordinate_columns(coords, len(Ks))
     states = _status_columns(status, len(Ks))
-    header = csv_header({name: (v, units) for name, v, units in columns}, states is not None)
+    computed = _coordinate_columns(results, len(Ks))
+    header = csv_header({name: (v, units) for name, v, units in columns}, states is not None,
+                        {name: (v, units) for name, v, units in computed})
     if len(set(header)) != len(header):
         raise ValueError(f"coordinate names clash with the CSV's own columns: {header}")
     label = _plain_text(matrix)
@@ -383,8 +514,9 @@ def write_csv(path, K, overwrite=False, coords: dict | None = None, status=None,
             w = csv.writer(fh)
             w.writerow(header)
             for i, k in enumerate(Ks):
-                row = [i] + [repr(float(v[i])) for _, v, _ in columns]
+                row = [first_case + i] + [repr(float(v[i])) for _, v, _ in columns]
                 row += [int(states[0][i])] if states else []
+                row += [repr(float(v[i])) for _, v, _ in computed]
                 row += [repr(float(v)) for v in k.ravel()]
                 row += [states[1][i]] if states else []
                 w.writerow(row + [label])
@@ -407,11 +539,12 @@ def read_csv(path) -> np.ndarray:
 
 
 def write_json(path, K, overwrite=False, extra: dict | None = None, coords: dict | None = None, status=None,
-               matrix: str = KB) -> Path:
+               matrix: str = KB, results: dict | None = None) -> Path:
     """{"matrix": which matrix, "dof": [...], "units": ..., "K": 5x5 or a list of them, "cases": {name:
     {"units", "values"}}}, with the integer ``status`` codes given (fastbearing.status) as "status_code"
-    and their names as "status" (one value for one matrix, else a list), plus ``extra`` (e.g. q, f,
-    status of a solve). Units: N, mm, rad (K: N/mm, N*mm/rad, N/rad)."""
+    and their names as "status" (one value for one matrix, else a list), ``results`` (a map's lives, a
+    solve's load and speed) as "results": {name: {"units", "values"}}, plus ``extra`` (e.g. q, f, status of
+    a solve). Units: N, mm, rad (K: N/mm, N*mm/rad, N/rad)."""
     path = Path(path)
     _check_output(path, overwrite)
     Ks = _as_matrices(K)
@@ -421,6 +554,10 @@ def write_json(path, K, overwrite=False, extra: dict | None = None, coords: dict
     if columns:
         body["cases"] = {name: {"units": units, "values": float(v[0]) if one else v.tolist()}
                          for name, v, units in columns}
+    computed = _coordinate_columns(results, len(Ks))
+    if computed:
+        body["results"] = {name: {"units": units, "values": float(v[0]) if one else v.tolist()}
+                           for name, v, units in computed}
     states = _status_columns(status, len(Ks))
     if states:
         body["status"] = states[1][0] if one else states[1]
@@ -430,11 +567,12 @@ def write_json(path, K, overwrite=False, extra: dict | None = None, coords: dict
 
 
 def write_npz(path, K, overwrite=False, coords: dict | None = None, status=None, matrix: str = KB,
-              **arrays) -> Path:
+              results: dict | None = None, **arrays) -> Path:
     """NumPy .npz with K, dof (names), units (text) and matrix (which matrix K is, text), each coordinate of
     ``coords`` as an array of its own name with its units in ``coordinate_units`` ("Fx: N", ...), the
-    integer ``status`` codes given (fastbearing.status) as status and their names as status_name, plus
-    any other arrays given. Units: N, mm, rad (K: N/mm, N*mm/rad, N/rad)."""
+    integer ``status`` codes given (fastbearing.status) as status and their names as status_name, each of
+    ``results`` (a map's lives, a solve's load and speed) as an array of its own name with its units in
+    ``result_units``, plus any other arrays given. Units: N, mm, rad (K: N/mm, N*mm/rad, N/rad)."""
     path = Path(path)
     _check_output(path, overwrite)
     Ks = _as_matrices(K)
@@ -442,6 +580,10 @@ def write_npz(path, K, overwrite=False, coords: dict | None = None, status=None,
     named = {name: v for name, v, _ in columns}
     if columns:
         named["coordinate_units"] = np.array([f"{name}: {units}" for name, _, units in columns])
+    computed = _coordinate_columns(results, len(Ks))
+    named.update({name: v for name, v, _ in computed})
+    if computed:
+        named["result_units"] = np.array([f"{name}: {units}" for name, _, units in computed])
     clash = sorted(set(named) & {"K", "dof", "units", "matrix", "status", "status_name"})
     if clash:
         raise ValueError(f"coordinate names {clash} clash with the npz's own arrays")
@@ -470,7 +612,7 @@ def _comment(text: str, width: int = 80) -> list[str]:
 
 
 def write_dmig(path, K, grid: int, name: str = "KBRG", ground_grid: int | None = None, overwrite=False,
-               matrix: str = KB, centre: str = KB_CENTRE) -> Path:
+               matrix: str = KB, centre: str = KB_CENTRE, source: str | None = None, case: str = "") -> Path:
     """Nastran DMIG bulk data (large field, real double precision) for one 5x5 Kb.
 
     Units: fastbearing's N, mm, rad are Nastran's consistent N-mm-t-s system,
@@ -487,7 +629,9 @@ def write_dmig(path, K, grid: int, name: str = "KBRG", ground_grid: int | None =
     tx, ty are components 1-5 there; a model whose shaft runs along x needs such a coordinate system on
     that grid, GRID's CD field); the ``ground_grid`` spring holds only when the two grids coincide (same
     point, same output system); an unsymmetric Kb needs a solution sequence that accepts an unsymmetric
-    stiffness. ``matrix`` (which matrix K is) heads the comment lines.
+    stiffness. ``matrix`` (which matrix K is) heads the comment lines; ``source`` (the file K was read
+    from) and ``case`` (which of its cases, e.g. the --at values or the --case index) follow it as
+    "$ source: ..." and "$ case: ..." lines.
     """
     path = Path(path)
     _check_output(path, overwrite)
@@ -509,6 +653,10 @@ def write_dmig(path, K, grid: int, name: str = "KBRG", ground_grid: int | None =
     lines = _comment(f"fastbearing {matrix}; DOF order {', '.join(DOF)} -> components 1-5 of grid {grid}"
                      + (f" and of grid {ground_grid}" if ground_grid is not None else "")
                      + "; use it in case control as K2GG = " + name)
+    if source:
+        lines += _comment(f"source: {source}")
+    if case:
+        lines += _comment(f"case: {case}")
     lines += _comment("units (Nastran N-mm-t-s system): N/mm among x, y, z; N*mm/rad among tx, ty; N/rad "
                       "between translations and tilts")
     lines += _comment(f"placement: grid {grid} must sit at {centre}, its output coordinate system (GRID CD) "
@@ -570,8 +718,9 @@ def ross_dropped(K) -> tuple[str, bool]:
     dropped entry is non-zero: the couplings to the axial dof z (kxz, kzx, kyz, kzy; largest |k| in N/mm
     and in % of the largest kept diagonal kxx, kyy, kzz), the tilt stiffness (ktxtx ... ktyty; largest |k|
     in N*mm/rad) and the 12 translation-tilt couplings (kxtx ... ktyz; largest |k| in N/rad and, as a
-    dimensionless size, the largest |k_ij| / sqrt(k_ii k_jj) in %)."""
-    k = _as_matrices(K)[0]
+    dimensionless size, the largest |k_ij| / sqrt(k_ii k_jj) in %). An entry below :data:`NOISE` times its
+    row's largest |entry| counts as 0 (:func:`noise_as_zero`): round-off is not a dropped coupling."""
+    k = noise_as_zero(_as_matrices(K)[0])  # round-off couplings (1e-12 of their row's largest) are zeros
 
     def largest(entries):
         values = [abs(k[i, j]) for i, j in entries]
@@ -618,13 +767,55 @@ def ross_arguments(K, node: int = 0) -> dict:
             "units": "N/m (SI, as ROSS expects); damping not modelled by fastbearing (cxx = 0)"}
 
 
-def write_ross(path, K, node: int = 0, overwrite=False, matrix: str = KB) -> Path:
+def ross_speed_arguments(K, speeds_rpm, node: int = 0) -> dict:
+    """Keyword arguments of ROSS's frequency-dependent ``BearingElement`` from Kb over shaft speed: kxx, kxy,
+    kyx, kyy, kzz as lists in N/m (SI) over ``frequency``, the speeds in rad/s (``speeds_rpm`` in rpm, one
+    per matrix of K (n, 5, 5), n >= 2, increasing), cxx zeros (no damping), plus a "units" note. ROSS
+    drops the same entries as for one matrix (:func:`ross_dropped`): a warning names them at the speed of the
+    largest tilt stiffness (the file's "dropped" says them at every speed)."""
+    Ks = _as_matrices(K)
+    rpm = np.asarray(speeds_rpm, float).reshape(-1)
+    if len(rpm) != len(Ks) or len(Ks) < 2:
+        raise ValueError(f"ROSS over speed needs one speed per matrix and at least 2, got {len(rpm)} speeds "
+                         f"for {len(Ks)} matrices")
+    if not np.all(np.isfinite(rpm)) or np.any(rpm < 0) or np.any(np.diff(rpm) <= 0):
+        raise ValueError("speed must be finite, >= 0 rpm and increasing along --over")
+    if isinstance(node, bool) or not isinstance(node, (int, np.integer)) or node < 0:
+        raise ValueError(f"node must be a shaft node number >= 0, got {node!r}")
+    dropped = [ross_dropped(k) for k in Ks]
+    if any(d[1] for d in dropped):
+        sizes = [max(abs(noise_as_zero(k)[i, j]) for i, j in ROSS_DROPPED_TILT) for k in Ks]  # N*mm/rad
+        worst = int(np.argmax(sizes))
+        warnings.warn(f"at {rpm[worst]:g} rpm (of {len(rpm)} speeds): {dropped[worst][0]}", stacklevel=2)
+    k = Ks * 1e3  # N/mm -> N/m
+    out = {"n": int(node)}
+    for name, (i, j) in zip(("kxx", "kxy", "kyx", "kyy", "kzz"), ROSS_KEPT):
+        out[name] = [float(v) for v in k[:, i, j]]
+    out["cxx"] = [0.0] * len(Ks)
+    out["frequency"] = [float(v) for v in rpm * 2.0 * np.pi / 60.0]
+    out["units"] = ("N/m (SI, as ROSS expects) over frequency in rad/s (the shaft speed); damping not modelled "
+                    "by fastbearing (cxx = 0)")
+    return out
+
+
+def write_ross(path, K, node: int = 0, overwrite=False, matrix: str = KB, source: str | None = None,
+               case: str = "", speeds_rpm=None) -> Path:
     """The :func:`ross_arguments` as JSON, for ``ross.BearingElement(**args)`` once fastbearing's notes
-    (:data:`ROSS_NOTES`: "units"; "matrix", which matrix this is; "dropped", what ROSS drops of it) are
-    removed."""
+    (:data:`ROSS_NOTES`: "units"; "matrix", which matrix this is; "dropped", what ROSS drops of it;
+    "source", the file K was read from, and "case", which of its cases, where given) are removed. With
+    ``speeds_rpm`` (one per matrix of K (n, 5, 5)): the frequency-dependent element of
+    :func:`ross_speed_arguments`, "dropped" then said at each speed."""
     path = Path(path)
     _check_output(path, overwrite)
-    args = ross_arguments(K, node)
+    if speeds_rpm is None:
+        args = ross_arguments(K, node)
+        args["dropped"] = ross_dropped(K)[0]
+    else:
+        args = ross_speed_arguments(K, speeds_rpm, node)
+        args["dropped"] = [ross_dropped(k)[0] for k in _as_matrices(K)]
     args["matrix"] = matrix
-    args["dropped"] = ross_dropped(K)[0]
+    if source:
+        args["source"] = str(source)
+    if case:
+        args["case"] = case
     return _publish(path, lambda tmp: tmp.write_text(json.dumps(args, indent=1)))
