@@ -83,7 +83,9 @@ def test_every_variable_has_one_units_string_and_a_short_long_name(stores, name)
 def test_a_long_text_becomes_a_short_long_name_and_a_comment():
     assert short_long_name("solver iterations") == ("solver iterations", False)
     text = "Fourier amplitude A_h of Kb: K = sum_h A_h cos(h*2*pi*position/positions + phi_h)"
-    assert short_long_name(text) == ("Fourier amplitude A_h of Kb", True)
+    assert short_long_name(text) == ("Fourier amplitude A_h of Kb", True)    # a formula's cos(...) is kept whole
+    assert short_long_name("element (ball or roller) number in the bearing's element order") == (
+        "element number in the bearing's element order", True)              # an aside in parentheses goes first
     head, cut = short_long_name("word " * 30)
     assert cut and len(head) <= LONG_NAME_MAX and head.endswith("...")
     attrs = cf_attributes("1", text, extra={"comment": "more"})

@@ -22,6 +22,7 @@ from __future__ import annotations
 import errno
 import os
 import queue
+import re
 import threading
 from dataclasses import dataclass, field
 from datetime import datetime, timezone
@@ -144,15 +145,19 @@ LONG_NAME_MAX = 60
 
 
 def short_long_name(text: str) -> tuple[str, bool]:
-    """``text`` as a long_name of at most LONG_NAME_MAX characters, and whether it was shortened: the part
-    before its first parenthesis, colon or semicolon where that fits, else cut at a word with "..."."""
+    """``text`` as a long_name of at most LONG_NAME_MAX characters, and whether it was shortened: the text
+    without its parentheses where that fits, else the part before its first colon, semicolon or comma, else
+    cut at a word with "..."."""
     if len(text) <= LONG_NAME_MAX:
         return text, False
-    for sep in (" (", ": ", "; ", ", "):
-        head = text.split(sep, 1)[0].strip()
+    bare = " ".join(re.sub(r"\s+\([^()]*\)", "", text).split())     # " (...)": not a formula's cos(...)
+    if len(bare) <= LONG_NAME_MAX:
+        return bare, True
+    for sep in (": ", "; ", ", "):
+        head = bare.split(sep, 1)[0].strip()
         if head and len(head) <= LONG_NAME_MAX:
             return head, True
-    return text[:LONG_NAME_MAX - 3].rsplit(" ", 1)[0] + "...", True
+    return bare[:LONG_NAME_MAX - 3].rsplit(" ", 1)[0] + "...", True
 
 
 def entry_units(units: str, trailing=(), extra=None) -> list[str] | None:
