@@ -94,7 +94,7 @@ def result_variables(given: str, inner: tuple[str, ...] = ()) -> list[Variable]:
           flag),
         V("iterations", (), "i4", "1", "solver iterations"),
         V("residual", (), "f8", "1", "relative residual of the solve",
-          {"comment": "max|f(q) - f_target| / max|f_target|, moments divided by the pitch radius R"}),
+          {"comment": "max|f(q) - f_target| / max|f_target|, moments / R"}),
         V("max_ball_load", ("row",), "f8", "N", "largest element load per row",
           {"comment": "a ball's load, or a roller's total"}),
         V("loaded_balls", ("row",), "i2", "1", "number of loaded elements (balls or rollers) per row"),
@@ -140,7 +140,8 @@ def outer_angle_variables() -> list[Variable]:
 
 
 #: The longest ``long_name`` a variable or coordinate carries: xarray's automatic plot labels read
-#: ``long_name [units]``, and a longer name is clipped on the axis. A longer text goes whole in ``comment``.
+#: ``long_name [units]`` wrapped at 30 characters, and a longer name runs to more lines than an axis has room
+#: for. A longer text goes whole in ``comment``.
 LONG_NAME_MAX = 60
 
 
