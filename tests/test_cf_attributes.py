@@ -11,7 +11,7 @@ import pytest
 
 import fastbearing as fb
 from fastbearing.dofs import k_entry_units
-from fastbearing.jobs.storage import LONG_NAME_MAX, cf_attributes, short_long_name
+from fastbearing.jobs.attributes import LONG_NAME_MAX, cf_attributes, short_long_name
 
 xr = pytest.importorskip("xarray")
 pytest.importorskip("h5netcdf")

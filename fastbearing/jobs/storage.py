@@ -1,7 +1,7 @@
 """HDF5 storage of result grids (load maps and ball-passage tables), via h5py.
 
 One schema, netCDF4-compatible: every dimension is an HDF5 dimension scale,
-every variable carries ``units`` and ``long_name`` (:func:`cf_attributes`:
+every variable carries ``units`` and ``long_name`` (attributes.cf_attributes:
 one unit string, a name of at most 60 characters, each entry's units in
 ``units_per_entry`` where the entries of q, f or Kb differ), so
 ``xarray.open_dataset(path, engine="h5netcdf")`` opens a file as a labelled
@@ -22,7 +22,6 @@ from __future__ import annotations
 import errno
 import os
 import queue
-import re
 import threading
 from dataclasses import dataclass, field
 from datetime import datetime, timezone
@@ -32,8 +31,9 @@ import h5py
 import numpy as np
 
 from .. import status as st
-from ..dofs import DISPLACEMENT_UNITS, K_UNITS, K_UNITS_PER_ENTRY, LOAD_UNITS
+from ..dofs import DISPLACEMENT_UNITS, K_UNITS, LOAD_UNITS
 from ..files import refuse_overwrite
+from .attributes import cf_attributes
 from .locations import (COMPLETE, RunLock, check_disk_space, check_folder, human_size,  # noqa: F401 (the runner's too)
                         slab_shape as _slab_shape)
 
@@ -137,70 +137,6 @@ def outer_angle_variables() -> list[Variable]:
           {"comment": "on the row's contact direction; at speed the outer angle falls below the inner one"}),
         V("max_outer_contact_angle", ("row",), "f8", "rad", "largest loaded outer-race contact angle per row"),
     ]
-
-
-#: The longest ``long_name`` a variable or coordinate carries: xarray's automatic plot labels read
-#: ``long_name [units]`` wrapped at 30 characters, and a longer name runs to more lines than an axis has room
-#: for. A longer text goes whole in ``comment``.
-LONG_NAME_MAX = 60
-
-
-def short_long_name(text: str) -> tuple[str, bool]:
-    """``text`` as a long_name of at most LONG_NAME_MAX characters, and whether it was shortened: the text
-    without its parentheses where that fits, else the part before its first colon, semicolon or comma, else
-    cut at a word with "..."."""
-    if len(text) <= LONG_NAME_MAX:
-        return text, False
-    bare = " ".join(re.sub(r"\s+\([^()]*\)", "", text).split())     # " (...)": not a formula's cos(...)
-    if len(bare) <= LONG_NAME_MAX:
-        return bare, True
-    for sep in (": ", "; ", ", "):
-        head = bare.split(sep, 1)[0].strip()
-        if head and len(head) <= LONG_NAME_MAX:
-            return head, True
-    return bare[:LONG_NAME_MAX - 3].rsplit(" ", 1)[0] + "...", True
-
-
-def entry_units(units: str, trailing=(), extra=None) -> list[str] | None:
-    """The units of each entry of a variable whose entries differ (q, f, Kb and its passage summaries), or
-    None: the ``units_per_entry`` its definition gives, else Kb's (:data:`~fastbearing.dofs.K_UNITS_PER_ENTRY`)
-    for a variable in Kb's units over (..., dof, dof_col)."""
-    given = (extra or {}).get("units_per_entry")
-    if given is not None:
-        return [str(u) for u in given]
-    if units == K_UNITS and tuple(trailing[-2:]) == ("dof", "dof_col"):
-        return list(K_UNITS_PER_ENTRY)
-    return None
-
-
-def cf_attributes(units: str | None, long_name: str, trailing=(), extra=None) -> dict:
-    """The attributes of a variable or coordinate in a store, HDF5 and zarr alike (CF-friendly).
-
-    ``units``: one unit string (N, mm, rad; "1" where dimensionless); None for a coordinate of text labels
-    (dof, dof_col), which is no quantity and has none (CF). ``long_name``: at most
-    LONG_NAME_MAX characters (:func:`short_long_name`; a longer text is kept whole in ``comment``).
-    ``units_per_entry`` where the entries' units differ (:func:`entry_units`): one unit per entry along the
-    variable's dof dims, row-major (q and f: 5, by dof; K: 25, entry [i, j] at 5 i + j), and ``units``
-    is then the translation entries' (mm, N, N/mm), which ``comment`` says. Then ``extra`` (flags ...),
-    its own ``comment`` joined to the others.
-    """
-    extra = dict(extra or {})
-    per_entry = entry_units(units, trailing, extra)
-    extra.pop("units_per_entry", None)
-    short, shortened = short_long_name(long_name)
-    comments = [long_name] if shortened else []
-    if "comment" in extra:
-        comments.append(str(extra.pop("comment")))
-    attrs = {"long_name": short} if units is None else {"units": str(units), "long_name": short}
-    if per_entry is not None:
-        attrs["units_per_entry"] = per_entry
-        by = "dof and dof_col, row-major (entry [i, j] at 5 i + j)" if len(per_entry) == 25 else "dof"
-        comments.append(f"units is that of the x, y, z entries ({units}); units_per_entry gives each entry's, "
-                        f"along {by}")
-    if comments:
-        attrs["comment"] = ". ".join(comments)
-    attrs.update(extra)
-    return attrs
 
 
 def allocate(variables: list[Variable], sizes: dict[str, int], n: int) -> dict[str, np.ndarray]:

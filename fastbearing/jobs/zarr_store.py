@@ -1,7 +1,7 @@
 """Zarr v3 stores of result grids: the HDF5 file's twin, written block by block by whoever computed the block.
 
 The same variables, coordinates, units and status flags as storage.py's
-HDF5 layout (the same attributes: storage.cf_attributes), as one zarr v3
+HDF5 layout (the same attributes: attributes.cf_attributes), as one zarr v3
 group: every array names its dimensions (``dimension_names``), so ``xarray.open_zarr(path)`` opens a finished store
 as the same labelled Dataset as ``xarray.open_dataset(file.h5)``.
 
@@ -38,7 +38,7 @@ import numpy as np
 
 from ..files import OutputExists
 from .locations import COMPLETE, RunLock, alive, check_disk_space, check_folder, is_url, slab_shape
-from .storage import cf_attributes
+from .attributes import cf_attributes
 
 #: The runner's blocks (grid.Block: index, start, stop, slab), named in annotations only: this module makes
 #: none of its own, and grid reads stores (case files), so importing it here would close a circle.
