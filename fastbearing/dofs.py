@@ -15,8 +15,10 @@ LOAD_NAMES = ("Fx", "Fy", "Fz", "Mx", "My")
 DISPLACEMENT_NAMES = ("dx", "dy", "dz", "bx", "by")
 LOAD_UNITS = ("N", "N", "N", "N*mm", "N*mm")
 DISPLACEMENT_UNITS = ("mm", "mm", "mm", "rad", "rad")
-#: The units of Kb as one attribute string.
-K_UNITS = "N/mm, N*mm/rad, N/rad"
+#: The ``units`` attribute of Kb in a store: one unit string, as CF asks of every variable, and Kb mixes three.
+#: It is the translation block's (x, y, z rows and columns: the radial and axial stiffnesses); each entry's own
+#: unit is in the ``units_per_entry`` attribute (:data:`K_UNITS_PER_ENTRY`).
+K_UNITS = "N/mm"
 #: The file-wide units statement of every output.
 UNITS_CONVENTION = "N, mm, rad; moments N*mm; stiffness N/mm, N*mm/rad, N/rad"
 
@@ -38,6 +40,9 @@ def k_entry_units(i: int, j: int) -> str:
     tilt_i, tilt_j = i >= 3, j >= 3
     return "N*mm/rad" if tilt_i and tilt_j else "N/rad" if tilt_i or tilt_j else "N/mm"
 
+
+#: The units of each Kb entry, row-major (entry [i, j] at 5 i + j): a store's ``units_per_entry`` of K.
+K_UNITS_PER_ENTRY = tuple(k_entry_units(i, j) for i in range(5) for j in range(5))
 
 #: The 15 independent entries of the symmetric Kb: (row, column, name with units), e.g. "kxz_N/mm".
 K_ENTRIES = tuple((i, j, f"k{DOF_LABELS[i]}{DOF_LABELS[j]}_{k_entry_units(i, j)}")

@@ -245,7 +245,12 @@ def test_xarray_layout_units_and_provenance(small_map):
     for name in (*VARIABLES, "Fx", "Fz", "My", "Fy", "Mx"):
         assert ds[name].attrs["units"] and ds[name].attrs["long_name"], name
     assert ds["Fx"].attrs["units"] == "N" and ds["My"].attrs["units"] == "N*mm"
-    assert ds["K"].attrs["units"] == "N/mm, N*mm/rad, N/rad"
+    # one units string each (CF); Kb's, q's and f's entries that differ say so in units_per_entry
+    assert ds["K"].attrs["units"] == "N/mm" and ds["q"].attrs["units"] == "mm" and ds["f"].attrs["units"] == "N"
+    per_entry = np.array(ds["K"].attrs["units_per_entry"]).reshape(5, 5)   # row-major over (dof, dof_col)
+    assert per_entry[0, 2] == "N/mm" and per_entry[3, 4] == "N*mm/rad" and per_entry[1, 3] == per_entry[4, 0] == "N/rad"
+    assert list(ds["q"].attrs["units_per_entry"]) == ["mm", "mm", "mm", "rad", "rad"]
+    assert list(ds["f"].attrs["units_per_entry"]) == ["N", "N", "N", "N*mm", "N*mm"]
     for key in ("fastbearing_version", "numba_version", "h5py_version", "config", "bearing", "solver_rtol",
                 "created"):
         assert key in ds.attrs

@@ -37,6 +37,8 @@ def _same_attr(a, b) -> bool:
     """Equal as values: text as text, numbers as numbers (nan equal to nan), HDF5's arrays as zarr's lists."""
     if isinstance(a, (str, bytes)) or isinstance(b, (str, bytes)):
         return isinstance(a, str) and isinstance(b, str) and a == b
+    if any(isinstance(x, str) for x in np.asarray(a, dtype=object).ravel()):   # units_per_entry: lists of text
+        return [str(x) for x in np.asarray(a).ravel()] == [str(x) for x in np.asarray(b).ravel()]
     return np.array_equal(np.asarray(a, dtype=float), np.asarray(b, dtype=float), equal_nan=True)
 
 

@@ -1,9 +1,12 @@
 """HDF5 storage of result grids (load maps and ball-passage tables), via h5py.
 
 One schema, netCDF4-compatible: every dimension is an HDF5 dimension scale,
-every variable carries ``units`` and ``long_name``, so
+every variable carries ``units`` and ``long_name`` (attributes.cf_attributes:
+one unit string, a name of at most 60 characters, each entry's units in
+``units_per_entry`` where the entries of q, f or Kb differ), so
 ``xarray.open_dataset(path, engine="h5netcdf")`` opens a file as a labelled
-Dataset and h5py or HDFView read it as plain HDF5.
+Dataset whose automatic plot labels read ``long_name [units]``, and h5py or
+HDFView read it as plain HDF5. Units: N, mm, rad.
 
 Crash safety: a run writes ``OUT.h5.part``, whose datasets are contiguous and
 allocated when created, so writing a block changes raw data only, never HDF5
@@ -30,6 +33,7 @@ import numpy as np
 from .. import status as st
 from ..dofs import DISPLACEMENT_UNITS, K_UNITS, LOAD_UNITS
 from ..files import refuse_overwrite
+from .attributes import cf_attributes
 from .locations import (COMPLETE, RunLock, check_disk_space, check_folder, human_size,  # noqa: F401 (the runner's too)
                         slab_shape as _slab_shape)
 
@@ -79,19 +83,23 @@ def result_variables(given: str, inner: tuple[str, ...] = ()) -> list[Variable]:
                        "warning beyond_validity (a ball's deflection exceeds its row's deflection_limit: the "
                        "Hertz pressure limit or 0.15 A0)"}
     return [
-        V("q", ("dof",), "f8", ", ".join(DISPLACEMENT_UNITS),
-          "inner-ring displacement (dx, dy, dz, bx, by) at the bearing centre"),
-        V("f", ("dof",), "f8", ", ".join(LOAD_UNITS), "load on the inner ring (Fx, Fy, Fz, Mx, My) at q"),
-        V("K", ("dof", "dof_col"), "f8", K_UNITS,
-          "bearing stiffness matrix Kb = df/dq (N/mm among x,y,z; N*mm/rad among tx,ty; N/rad between)"),
+        V("q", ("dof",), "f8", DISPLACEMENT_UNITS[0], "inner-ring displacement (tilts bx, by in rad)",
+          {"units_per_entry": list(DISPLACEMENT_UNITS),
+           "comment": "q = (dx, dy, dz, bx, by) of the inner ring at the bearing centre"}),
+        V("f", ("dof",), "f8", LOAD_UNITS[0], "load on the inner ring at q (moments Mx, My in N*mm)",
+          {"units_per_entry": list(LOAD_UNITS), "comment": "f = (Fx, Fy, Fz, Mx, My) on the inner ring at q"}),
+        V("K", ("dof", "dof_col"), "f8", K_UNITS, "stiffness Kb (tx, ty entries: N/rad, N*mm/rad)",
+          {"comment": "Kb = df/dq: N/mm among x, y, z; N*mm/rad among tx, ty; N/rad between"}),
         V("status", (), "i1", "1", "solver status" if given == "load" else "status (0: direct substitution)",
           flag),
         V("iterations", (), "i4", "1", "solver iterations"),
-        V("residual", (), "f8", "1", "relative residual max|f(q) - f_target| / max|f_target|, moments / R"),
-        V("max_ball_load", ("row",), "f8", "N", "largest element load per row (a ball's, or a roller's total)"),
+        V("residual", (), "f8", "1", "relative residual of the solve",
+          {"comment": "max|f(q) - f_target| / max|f_target|, moments / R"}),
+        V("max_ball_load", ("row",), "f8", "N", "largest element load per row",
+          {"comment": "a ball's load, or a roller's total"}),
         V("loaded_balls", ("row",), "i2", "1", "number of loaded elements (balls or rollers) per row"),
-        V("min_contact_angle", ("row",), "f8", "rad", "smallest loaded contact angle per row (on the row's "
-          "contact direction; nan if no ball is loaded)"),
+        V("min_contact_angle", ("row",), "f8", "rad", "smallest loaded contact angle per row",
+          {"comment": "on the row's contact direction; nan if no ball is loaded"}),
         V("max_contact_angle", ("row",), "f8", "rad", "largest loaded contact angle per row"),
     ]
 
@@ -102,18 +110,22 @@ def life_variables(iso: bool = True, hours: bool = False) -> list[Variable]:
     speed) both lives in hours too."""
     V = _inner_variable(())
     out = [
-        V("L10r", (), "f8", "million revolutions",
-          "modified reference rating life L10r of the bearing (ISO/TS 16281; nan where the case did not converge)"),
+        V("L10r", (), "f8", "million revolutions", "modified reference rating life L10r (ISO/TS 16281)",
+          {"comment": "of the bearing; nan where the case did not converge, inf where nothing is loaded"}),
         V("L10r_row", ("row",), "f8", "million revolutions", "modified reference rating life L10r of each row"),
-        V("static_safety", (), "f8", "1", "static safety factor S0 = C0/P0 (ISO 76) of the bearing as a unit"),
+        V("static_safety", (), "f8", "1", "static safety factor S0 = C0/P0 (ISO 76)",
+          {"comment": "of the bearing as a unit"}),
     ]
     if iso:
-        out.append(V("L10", (), "f8", "million revolutions", "basic rating life L10 = (C/P)^p (ISO 281; P from "
-                     "the radial and axial load the ring carries; nan where the case did not converge)"))
+        out.append(V("L10", (), "f8", "million revolutions", "basic rating life L10 = (C/P)^p (ISO 281)",
+                     {"comment": "P from the radial and axial load the ring carries; nan where the case did not "
+                                 "converge"}))
     if hours:
-        out.append(V("L10r_hours", (), "f8", "h", "L10r in hours at the case's shaft speed (inf at 0 rpm)"))
+        out.append(V("L10r_hours", (), "f8", "h", "L10r in hours at the case's shaft speed",
+                     {"comment": "inf at 0 rpm"}))
         if iso:
-            out.append(V("L10_hours", (), "f8", "h", "L10 in hours at the case's shaft speed (inf at 0 rpm)"))
+            out.append(V("L10_hours", (), "f8", "h", "L10 in hours at the case's shaft speed",
+                         {"comment": "inf at 0 rpm"}))
     return out
 
 
@@ -121,8 +133,8 @@ def outer_angle_variables() -> list[Variable]:
     """At speed the inner and outer contact angles differ: the outer contacts' extremes per row."""
     V = _inner_variable(())
     return [
-        V("min_outer_contact_angle", ("row",), "f8", "rad", "smallest loaded outer-race contact angle per row "
-          "(on the row's contact direction; at speed the outer angle falls below the inner one)"),
+        V("min_outer_contact_angle", ("row",), "f8", "rad", "smallest loaded outer-race contact angle per row",
+          {"comment": "on the row's contact direction; at speed the outer angle falls below the inner one"}),
         V("max_outer_contact_angle", ("row",), "f8", "rad", "largest loaded outer-race contact angle per row"),
     ]
 
@@ -208,6 +220,14 @@ def _early_dcpl() -> h5py.h5p.PropDCID:
     return dcpl
 
 
+def _set_attrs(ds, attrs: dict) -> None:
+    """Write ``attrs`` on an HDF5 dataset; a list of texts as HDF5 variable-length strings (netCDF's NC_STRING)."""
+    for k, val in attrs.items():
+        if isinstance(val, list) and all(isinstance(x, str) for x in val):
+            val = np.array(val, dtype=h5py.string_dtype())
+        ds.attrs[k] = val
+
+
 def create(path: Path, case_dims: list[Coordinate], extra_dims: list[Coordinate], scalars: list[Coordinate],
            variables: list[Variable], attrs: dict, n_blocks: int, aux_coords=()) -> None:
     """Create the working file ``path`` (a ``.part``) with every dataset allocated.
@@ -223,28 +243,22 @@ def create(path: Path, case_dims: list[Coordinate], extra_dims: list[Coordinate]
             ds = fh.create_dataset(c.name, data=values.astype(h5py.string_dtype()) if values.dtype.kind in "UO"
                                    else values)
             ds.make_scale(c.name)
-            ds.attrs["units"] = c.units
-            ds.attrs["long_name"] = c.long_name
+            _set_attrs(ds, cf_attributes(None if values.dtype.kind in "UO" else c.units, c.long_name))
         dims = {c.name: fh[c.name] for c in (*case_dims, *extra_dims)}
         coord_names = [c.name for c in scalars] + [c.name for c, _ in aux_coords]
         for c in scalars:
             ds = fh.create_dataset(c.name, data=np.float64(c.values[0]))
-            ds.attrs["units"] = c.units
-            ds.attrs["long_name"] = c.long_name
+            _set_attrs(ds, cf_attributes(c.units, c.long_name))
         for c, dim in aux_coords:
             ds = fh.create_dataset(c.name, data=c.values)
             ds.dims[0].attach_scale(dims[dim])
-            ds.attrs["units"] = c.units
-            ds.attrs["long_name"] = c.long_name
+            _set_attrs(ds, cf_attributes(c.units, c.long_name))
         for v in variables:
             vshape = shape + tuple(len(dims[t]) for t in v.trailing)
             ds = fh.create_dataset(v.name, shape=vshape, dtype=v.dtype, dcpl=_early_dcpl())
             for axis, name in enumerate([c.name for c in case_dims] + list(v.trailing)):
                 ds.dims[axis].attach_scale(dims[name])
-            ds.attrs["units"] = v.units
-            ds.attrs["long_name"] = v.long_name
-            for k, val in v.extra.items():
-                ds.attrs[k] = val
+            _set_attrs(ds, cf_attributes(v.units, v.long_name, v.trailing, v.extra))
             if coord_names:
                 ds.attrs["coordinates"] = " ".join(coord_names)
         blocks = fh.create_dataset("block", data=np.arange(n_blocks, dtype=np.int64))

@@ -1,8 +1,8 @@
 """Zarr v3 stores of result grids: the HDF5 file's twin, written block by block by whoever computed the block.
 
 The same variables, coordinates, units and status flags as storage.py's
-HDF5 layout, as one zarr v3 group: every array names its dimensions
-(``dimension_names``), so ``xarray.open_zarr(path)`` opens a finished store
+HDF5 layout (the same attributes: attributes.cf_attributes), as one zarr v3
+group: every array names its dimensions (``dimension_names``), so ``xarray.open_zarr(path)`` opens a finished store
 as the same labelled Dataset as ``xarray.open_dataset(file.h5)``.
 
 The grid is chunked along the case dimensions exactly as the runner cuts it
@@ -38,6 +38,7 @@ import numpy as np
 
 from ..files import OutputExists
 from .locations import COMPLETE, RunLock, alive, check_disk_space, check_folder, is_url, slab_shape
+from .attributes import cf_attributes
 
 #: The runner's blocks (grid.Block: index, start, stop, slab), named in annotations only: this module makes
 #: none of its own, and grid reads stores (case files), so importing it here would close a circle.
@@ -308,8 +309,9 @@ class ZarrStore:
         g = zarr.open_group(store=self.where, mode="w-", zarr_format=3, attributes=identity)
         counts = g.create_array(BOOKKEEPING, shape=(len(tasks), N_CODES), dtype="i8", chunks=(1, N_CODES),
                                 dimension_names=["block", "status_code"], fill_value=0)
-        counts.attrs.update({"long_name": "solves per status code (index = code + 128) of each finished block; "
-                             "dropped when the store is finished", "units": "1"})
+        counts.attrs.update(cf_attributes("1", "solves per status code of each finished block",
+                                          extra={"comment": "index = code + 128; dropped when the store is "
+                                                            "finished"}))
         lengths = {}
         for c in (*case_dims, *extra_dims):
             values = np.asarray(c.values)
@@ -317,18 +319,19 @@ class ZarrStore:
             a = g.create_array(c.name, shape=values.shape, dtype=str if values.dtype.kind in "UO" else values.dtype,
                                dimension_names=[c.name], compressors=None)
             a[...] = values.astype(str) if values.dtype.kind in "UO" else values
-            a.attrs.update({"units": c.units, "long_name": c.long_name})
+            units = None if values.dtype.kind in "UO" else c.units     # text labels (dof): no quantity, no units
+            a.attrs.update({k: _jsonable(val) for k, val in cf_attributes(units, c.long_name).items()})
         coord_names = [c.name for c in scalars] + [c.name for c, _ in aux_coords]
         for c in scalars:
             a = g.create_array(c.name, shape=(), dtype="f8", dimension_names=[], compressors=None)
             a[...] = np.float64(c.values[0])
-            a.attrs.update({"units": c.units, "long_name": c.long_name})
+            a.attrs.update({k: _jsonable(val) for k, val in cf_attributes(c.units, c.long_name).items()})
         for c, dim in aux_coords:
             values = np.asarray(c.values)
             a = g.create_array(c.name, shape=values.shape, dtype=values.dtype, dimension_names=[dim],
                                compressors=None)
             a[...] = values
-            a.attrs.update({"units": c.units, "long_name": c.long_name})
+            a.attrs.update({k: _jsonable(val) for k, val in cf_attributes(c.units, c.long_name).items()})
         codecs = _codecs(compression)
         for v in variables:
             trailing = tuple(lengths[t] for t in v.trailing)
@@ -337,8 +340,8 @@ class ZarrStore:
                 kw["shards"] = shard + trailing
             a = g.create_array(v.name, shape=shape + trailing, dtype=v.dtype, compressors=codecs, fill_value=0,
                                dimension_names=[c.name for c in case_dims] + list(v.trailing), **kw)
-            a.attrs.update({"units": v.units, "long_name": v.long_name,
-                            **{k: _jsonable(val) for k, val in v.extra.items()},
+            a.attrs.update({**{k: _jsonable(val) for k, val in cf_attributes(v.units, v.long_name, v.trailing,
+                                                                             v.extra).items()},
                             **({"coordinates": " ".join(coord_names)} if coord_names else {})})
         g.attrs[CREATED] = 1
 

@@ -19,8 +19,12 @@ both stay visible, the later one dashed on top, and its legend entry says
 
 Variables (``var``): a Kb entry ``k`` + two of x, y, z, tx, ty (``kxx``,
 ``kzz``, ``kxty``, ``ktyty``, ...); a displacement component ``dx`` ...
-``by`` (q) or a load component ``Fx`` ... ``My`` (f); ``max_ball_load``,
-``loaded_balls``, ``min_contact_angle``, ``max_contact_angle`` (per row).
+``by`` (q) or a load component ``Fx`` ... ``My`` (f); and every other
+variable the file stores over its operating points (and ``row``) with its
+``units`` attribute: ``max_ball_load``, ``loaded_balls``, the contact
+angles (inner, and outer at speed), ``iterations``, ``residual`` and, in
+maps with life, ``L10r``, ``L10``, ``L10r_hours``, ``L10_hours``,
+``L10r_row``, ``static_safety`` (:func:`plottable`).
 """
 
 from __future__ import annotations
@@ -43,15 +47,25 @@ DEFAULT_SIZE = (800, 560)
 DEFAULT_DPI = 100
 ROW_VARIABLES = {"max_ball_load": ("N", "largest ball load"), "loaded_balls": ("1", "loaded balls"),
                  "min_contact_angle": ("rad", "smallest loaded contact angle"),
-                 "max_contact_angle": ("rad", "largest loaded contact angle")}
-#: Rating-life variables of a map with ``life = true`` (units, description); drawn on a log colour scale.
-LIFE_VARIABLES = {"L10r": ("million revolutions", "rating life L10r"),
-                  "L10r_row": ("million revolutions", "rating life L10r of a row"),
-                  "static_safety": ("1", "static safety S0")}
-LOG_VARIABLES = ("L10r", "L10r_row")
+                 "max_contact_angle": ("rad", "largest loaded contact angle"),
+                 "min_outer_contact_angle": ("rad", "smallest loaded outer contact angle"),
+                 "max_outer_contact_angle": ("rad", "largest loaded outer contact angle")}
+#: Rating-life variables of a map with ``life = true`` (units, description, what the map needs for it); the
+#: lives are drawn on a log scale.
+LIFE_VARIABLES = {"L10r": ("million revolutions", "rating life L10r", "life = true"),
+                  "L10r_row": ("million revolutions", "rating life L10r of a row", "life = true"),
+                  "L10": ("million revolutions", "rating life L10 (ISO 281)",
+                          "life = true and a bearing with a load rating C (ISO 281)"),
+                  "L10r_hours": ("h", "rating life L10r", "life = true and a speed"),
+                  "L10_hours": ("h", "rating life L10 (ISO 281)",
+                                "life = true, a speed and a bearing with a load rating C (ISO 281)"),
+                  "static_safety": ("1", "static safety S0", "life = true")}
+LOG_VARIABLES = ("L10r", "L10r_row", "L10", "L10r_hours", "L10_hours")
 #: Variables that are angles (stored in rad, as every angle in the files): pictures show them in degrees, as a
 #: user types angles (``base_units`` keeps rad).
-ANGLE_VARIABLES = ("min_contact_angle", "max_contact_angle")
+ANGLE_VARIABLES = ("min_contact_angle", "max_contact_angle", "min_outer_contact_angle", "max_outer_contact_angle")
+#: Stored variables drawn through their own names for an entry (kxx, dz, Fx ...), not whole.
+_BY_ENTRY = ("K", "q", "f")
 NORMALISE = ("none", "first", "mean")
 PASSAGE_X = ("angle", "period", "time", "revolutions")
 #: The paper's Fig. 13/14 entries, the default of passage plots.
@@ -193,6 +207,23 @@ def symbol(name: str) -> str:
     if name in LOAD_NAMES:
         return rf"${name[0]}_{name[1]}$"
     return {**ROW_VARIABLES, **LIFE_VARIABLES}.get(name, (None, name.replace("_", " ")))[1]
+
+
+def plottable(ds) -> list[str]:
+    """The variables of ``ds`` that pictures take whole (beside the Kb, q and f entries kxx, dz, Fx ...):
+    those with a ``units`` attribute over the operating points, with ``row`` or ``position`` at most."""
+    dims = set(case_dims(ds)) | {"row", "position"}
+    return [name for name, da in ds.data_vars.items()
+            if name not in (*_BY_ENTRY, "status") and _stored_units(da) is not None and set(da.dims) <= dims]
+
+
+def _stored_units(da) -> str | None:
+    """The units of a stored variable: its ``units`` attribute, else (a Dataset built by hand) the units a
+    fastbearing variable of its name has; None where neither says."""
+    units = da.attrs.get("units")
+    if isinstance(units, str):
+        return units
+    return {**ROW_VARIABLES, **LIFE_VARIABLES}.get(da.name, (None,))[0]
 
 
 def scale_units(values, units: str, base_units: bool = False) -> tuple[float, str]:
@@ -342,26 +373,23 @@ def variable(ds, var: str, row=None):
         return ds["q"].isel(dof=DISPLACEMENT_NAMES.index(var)), _QUANTITY_UNITS[var]
     if var in LOAD_NAMES:
         return ds["f"].isel(dof=LOAD_NAMES.index(var)), _QUANTITY_UNITS[var]
-    if var in LIFE_VARIABLES:
-        if var not in ds:
-            raise ValueError(f"{var} is not in this file: compute the map with life = true in [loadmap]")
-        if var == "L10r_row" and row is not None:
-            n = ds.sizes["row"]
-            if isinstance(row, bool) or not isinstance(row, (int, np.integer)) or not 0 <= row < n:
-                raise ValueError(f"row must be an integer in [0, {n - 1}], got {row!r}")
-            return ds[var].isel(row=int(row)), LIFE_VARIABLES[var][0]
-        return ds[var], LIFE_VARIABLES[var][0]
-    if var in ROW_VARIABLES:
-        da = ds[var].astype(float)
-        if row is not None:
+    if var in LIFE_VARIABLES and var not in ds:
+        raise ValueError(f"{var} is not in this file: compute the map with {LIFE_VARIABLES[var][2]} in [loadmap]")
+    if var in plottable(ds):
+        da = ds[var]
+        units = _stored_units(da)
+        if da.dtype.kind in "iu":
+            da = da.astype(float)  # counts: blanks (nan) where a case did not converge
+        if "row" in da.dims and row is not None:
             n = ds.sizes["row"]
             if isinstance(row, bool) or not isinstance(row, (int, np.integer)) or not 0 <= row < n:
                 raise ValueError(f"row must be an integer in [0, {n - 1}], got {row!r}")
             da = da.isel(row=int(row))
-        return da, ROW_VARIABLES[var][0]
+        return da, units
     raise ValueError(f"unknown variable {var!r}; use a Kb entry k + two of {', '.join(DOF)} (kxx, kzz, kxty, "
-                     f"ktyty ...), {', '.join(DISPLACEMENT_NAMES)} (q), {', '.join(LOAD_NAMES)} (f), "
-                     f"{', '.join(ROW_VARIABLES)} or (maps with life) {', '.join(LIFE_VARIABLES)}")
+                     f"ktyty ...), {', '.join(DISPLACEMENT_NAMES)} (q), {', '.join(LOAD_NAMES)} (f) or one of this "
+                     f"file's variables: {', '.join(plottable(ds)) or 'none'}"
+                     + ("" if "L10r" in ds else f" (maps with life also: {', '.join(LIFE_VARIABLES)})"))
 
 
 def _axis_units(ds, name: str) -> str:
@@ -500,7 +528,8 @@ def plot_map(source, var: str, x: str, y: str, *, at=None, row=None, kind: str =
         da, status, where = select(ds, da, (x, y), at, base_units=base_units)
         ok = st.converged_mask(status.transpose(y, x).values)
         if "row" in da.dims:  # a per-row variable over all rows: the bearing's total, smallest or largest
-            da = {"loaded_balls": da.sum, "min_contact_angle": da.min, "L10r_row": da.min}.get(var, da.max)("row")
+            da = (da.sum if var == "loaded_balls" else da.min if var.startswith("min_") or var == "L10r_row"
+                  else da.max)("row")
         z = np.where(ok, da.transpose(y, x).values, np.nan)
         log = var in LOG_VARIABLES
         unbounded = int(np.isinf(z).sum())
@@ -532,7 +561,8 @@ def plot_map(source, var: str, x: str, y: str, *, at=None, row=None, kind: str =
             bar = fig.colorbar(mesh, ax=ax)
             if logbar:
                 _label_log_colorbar(bar, finite.min(), finite.max())
-            what = symbol(var) + ("" if row is None or var not in (*ROW_VARIABLES, "L10r_row") else f", row {row}")
+            per_row = var in ds.data_vars and "row" in ds[var].dims
+            what = symbol(var) + ("" if row is None or not per_row else f", row {row}")
             bar.set_label(axis_label(what, uz))
             ax.set_xlabel(axis_label(symbol(x), ux))
             ax.set_ylabel(axis_label(symbol(y), uy))
@@ -540,7 +570,8 @@ def plot_map(source, var: str, x: str, y: str, *, at=None, row=None, kind: str =
             blank = int((~ok).sum())
             ax.set_title(f"{what} of {_bearing_title(ds)}" + (f" at {', '.join(where)}" if where else "")
                          + (f"\n{blank} case(s) not converged (blank)" if blank else "")
-                         + (f"\n{unbounded} unloaded case(s): unbounded life (blank)" if unbounded else ""))
+                         + (f"\n{unbounded} {'unloaded or 0 rpm' if var.endswith('_hours') else 'unloaded'} "
+                            "case(s): unbounded life (blank)" if unbounded else ""))
             return _finish(fig, out, overwrite)
 
 
@@ -611,8 +642,13 @@ def plot_lines(source, var, x: str, *, at=None, row=None, series=None, out=None,
                     labels = [f"{a}, {b}" for a in labels for b in rows] if labels else rows
                 fv, uv = variable_units(name, values, units, base_units)
                 look = {"marker": "o" if len(xv) <= _SPARSE else None}
+                if name in LOG_VARIABLES:  # an unbounded life (unloaded, 0 rpm) is a gap; lives on a log scale
+                    values = np.where(np.isinf(values), np.nan, values)
                 draw_curves(ax, xv * fx, [(labels[k] if labels else None, values[:, k] * fv, look)
                                           for k in range(values.shape[1])])
+                finite = values[np.isfinite(values)]
+                if name in LOG_VARIABLES and finite.size and finite.min() > 0:
+                    ax.set_yscale("log")
                 ax.set_ylabel(axis_label(symbol(name), uv))
                 if len(labels) > 4:  # beside the panel: inside it such a legend hides curves
                     ax.legend(fontsize=8, loc="center left", bbox_to_anchor=(1.01, 0.5))
