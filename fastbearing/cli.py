@@ -372,7 +372,7 @@ def _add_plot_parsers(sub) -> None:
 
     m = kinds.add_parser("map", help="contour or heat map of one variable over two axes of a load map")
     common(m)
-    m.add_argument("--var", required=True, help="variable, e.g. kzz, ktyty, kxty, dz, max_ball_load")
+    m.add_argument("--var", required=True, help="any stored variable with a unit, e.g. kzz, ktyty, kxty, dz, max_ball_load, L10r_hours")
     m.add_argument("--x", required=True, help="horizontal axis, e.g. Fx")
     m.add_argument("--y", required=True, help="vertical axis, e.g. My")
     m.add_argument("--kind", dest="kind_of_map", choices=["contour", "heatmap"], default="contour",
@@ -380,7 +380,7 @@ def _add_plot_parsers(sub) -> None:
     m.add_argument("--row", type=int, help="row of a per-row variable (default: all rows: total, smallest or largest)")
     line = kinds.add_parser("line", help="variables of a load map along one axis")
     common(line)
-    line.add_argument("--var", required=True, help="comma-separated variables, one panel each, e.g. kxx,kzz")
+    line.add_argument("--var", required=True, help="comma-separated stored variables, one panel each, e.g. kxx,kzz,L10_hours")
     line.add_argument("--x", required=True, help="axis along the lines, e.g. Fz")
     line.add_argument("--series", help="another axis: one line per value of it (at most 12)")
     line.add_argument("--row", type=int, help="row of a per-row variable (default: one line per row)")

@@ -349,16 +349,14 @@ def job(cfg: PassageConfig, device: str = "cpu") -> jobs.Job:
         own = (C("position", np.arange(P), "1", f"position over {cfg.revolutions} shaft revolution(s), "
                  f"{cfg.positions} per revolution"),
                C("harmonic", np.arange(H + 1), "1", "harmonic of the table's period (revolutions shaft turns)"))
-        aux = [(C("cage_angle", cfg.cage_angles, "rad", "cage rotation from the bearing definition's first-ball "
-                  "azimuth"), "position"),
+        aux = [(C("cage_angle", cfg.cage_angles, "rad", "cage rotation from the first ball's azimuth"), "position"),
                (C("shaft_angle", cfg.shaft_angles, "rad", "shaft rotation from position 0"), "position"),
                (C("order", np.arange(H + 1) / cfg.revolutions, "1", "order of the shaft speed of each harmonic"),
                 "harmonic")]
     else:
         own = (C("position", np.arange(P), "1", "cage position within one period"),
                C("harmonic", np.arange(H + 1), "1", "harmonic order of the ball-pass frequency"))
-        aux = [(C("cage_angle", cfg.cage_angles, "rad", "cage rotation from the bearing definition's first-ball "
-                  "azimuth"), "position")]
+        aux = [(C("cage_angle", cfg.cage_angles, "rad", "cage rotation from the first ball's azimuth"), "position")]
     if cfg.element_loads:
         own += (C("element", np.arange(cfg.bearing.n_elements), "1", "element (ball or roller) number in the "
                   "bearing's element order"),)
@@ -498,18 +496,18 @@ def passage(config, output=None, *, threads=None, resume=False, overwrite=False,
 
 def _write_csv_files(h5: Path, cfg: PassageConfig, paths: list[Path], overwrite: bool = False) -> None:
     """One CSV per operating point, read point by point from the finished file (memory: one point), in the
-    export's dialect (report/export.py's :func:`~fastbearing.report.export.write_csv`, as `fastbearing export
-    --format csv` writes it): case, the point's inputs (Fx_N ... My_N_mm or dx_mm ... by_rad), position,
+    export's dialect (:func:`fastbearing.jobs.csv_table.write_csv`, the writer `fastbearing export
+    --format csv` uses): case, the point's inputs (Fx_N ... My_N_mm or dx_mm ... by_rad), position,
     cage_angle_rad (and time_s, shaft_angle_rad where the table has them), status, all 25 Kb entries
     (kxx_N_per_mm ...), status_name and matrix."""
-    from ..report.export import _case_coordinates, write_csv
+    from .csv_table import case_coordinates, write_csv
     from .storage import ResultFile
 
     with ResultFile(h5) as rf:
         shape = rf.shape("K")[:-2]
         n = int(np.prod(shape[:-1]))          # operating points; the last dim is the position
         per = shape[-1]
-        coords = _case_coordinates(rf)         # every case's coordinates, flat over (points..., position)
+        coords = case_coordinates(rf)         # every case's coordinates, flat over (points..., position)
         coords.setdefault("position", (np.tile(np.arange(per, dtype=float), n), "1"))
         for i, path in enumerate(paths):
             index = np.unravel_index(i, shape[:-1])
