@@ -229,3 +229,29 @@ def test_find_bearing_file_refuses_a_folder(tmp_path, monkeypatch):
     (tmp_path / "mine").mkdir()
     with pytest.raises(ValueError, match="is a directory"):
         find_bearing_file("mine")
+
+
+def test_a_non_editable_install_finds_the_shipped_bearings_from_any_folder(tmp_path):
+    """Issue 48, done means: installed (not editable) into a folder outside the clone, the package lists its
+    bearings and reads one by name from another folder, so the bearing files really are package data."""
+    import json
+    import os
+    import subprocess
+    import sys
+
+    root = Path(__file__).resolve().parents[1]
+    target = tmp_path / "site"
+    build = subprocess.run([sys.executable, "-m", "pip", "install", "-q", "--no-deps", "--target", str(target),
+                            str(root)], capture_output=True, text=True, cwd=tmp_path)
+    assert build.returncode == 0, build.stderr
+    assert (target / "fastbearing" / "catalogue" / "6205.toml").is_file()
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    env = {**os.environ, "PYTHONPATH": str(target)}
+    script = ("import fastbearing as fb, json; b = fb.load_bearing('6205'); "
+              "print(json.dumps([fb.__file__, b.n_elements, [e['name'] for e in fb.shipped_bearings()]]))")
+    run = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, cwd=elsewhere, env=env)
+    assert run.returncode == 0, run.stderr
+    where, n_balls, names = json.loads(run.stdout.strip().splitlines()[-1])
+    assert Path(where).resolve().is_relative_to(target.resolve())
+    assert n_balls == 9 and "6205" in names and "QJ210" in names and len(names) == 14
