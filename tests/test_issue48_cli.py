@@ -285,3 +285,25 @@ def test_the_docs_ross_rotor_runs_when_ross_is_installed(speed_map, tmp_path, mo
     exec(compile(block.replace("campbell.plot()", "figure = campbell.plot()"), "shafts-and-export.md", "exec"),
          namespace)
     assert namespace["campbell"] is not None
+
+
+def test_a_defect_table_takes_the_same_geometry_diameters_and_refuses_others(tmp_path):
+    """The table over shaft revolutions places its defects with the kinematics the time axis uses (one
+    function, jobs/passage._element_kinematics): the geometry's diameters, a differing one refused."""
+    import pytest
+
+    import fastbearing as fb
+    from fastbearing.jobs.passage import read_config
+
+    base = ('bearing = "6205"\n[passage]\npoints = [[0.01, 0.0, 0.0, 0.0, 0.0]]\nrevolutions = 2\n'
+            'positions = 36\n')
+    g = fb.load_bearing("6205").geometry
+    cfg = read_config(_write(tmp_path / "a.toml", base))
+    assert (cfg.kinematics.ball_diameter, cfg.kinematics.pitch_diameter) == (g.ball_diameter, g.pitch_diameter)
+    with pytest.raises(ValueError, match=r"passage\.ball_diameter.*differs from \[bearing\.geometry\]"):
+        read_config(_write(tmp_path / "b.toml", base + "ball_diameter = 9.0\n"))
+
+
+def _write(path, text):
+    path.write_text(text)
+    return path

@@ -26,12 +26,12 @@ from . import storage
 
 from .. import boundary, validate
 from ..api import solver_settings
-from ..model.bearing import Bearing, check_speed, check_speed_model, rpm_to_rad_s
+from ..model.bearing import Bearing, check_speed, check_speed_model
 from ..model.bearing_file import read_job_config
 from ..model.mounted import operating_attributes, operating_bearing
 from ..dofs import AXES, K_UNITS, UNITS
 from .grid import CaseSet, check_fixed_axes, fixed_mask, input_axes
-from ..analysis.faults import fault_frequencies, fault_orders
+from ..analysis.faults import fault_orders
 from ..model.bearing import without_mirror_half
 from ..model.defects import (Kinematics, element_depths, parse_defects, table_azimuths, with_ball_defects,
                              with_slice_defects, with_speed_defects)
@@ -160,30 +160,13 @@ def read_config(config) -> PassageConfig:
             raise err.within("passage") from None
     speed = None
     speed_keys = [k for k in ("shaft_speed", "ball_diameter", "pitch_diameter") if k in spec]
-    own = _geometry_kinematics(bearing)
-    if speed_keys and own is not None and "shaft_speed" in spec:
-        # a bearing with [bearing.geometry]: its ball (or roller) and pitch diameters give the cage speed
-        for key, value in zip(("ball_diameter", "pitch_diameter"), own[:2]):
-            if key in spec:
-                given_value = validate.number(spec[key], f"passage.{key}", low=0, low_open=True, units="mm")
-                if not math.isclose(given_value, value, rel_tol=1e-12):
-                    raise validate.FieldError(f"passage.{key}", f"differs from [bearing.geometry]'s {value:g} mm: "
-                                              "leave it out (the bearing's geometry gives it)", given_value)
-        D, dm = own[:2]
-        rotating = validate.choice(spec.get("rotating", own[2]), "passage.rotating", ("inner", "outer"))
-        rpm = validate.number(spec["shaft_speed"], "passage.shaft_speed", low=0, low_open=True, units="rpm")
-        if model_speed > 0 and rpm != model_speed:
-            raise validate.FieldError("passage.shaft_speed", f"must equal passage.speed ({model_speed:g} rpm) "
-                                      "when both are given (or leave it out: the speed gives the time axis)", rpm)
-        speed = CageSpeed(rpm, D, dm, math.radians(bearing.rows[0].contact_angle), rotating)
-    elif speed_keys:
-        if len(speed_keys) != 3:
+    kinematics = _element_kinematics(spec, bearing) if speed_keys else None
+    if speed_keys:
+        if "shaft_speed" not in spec or kinematics is None:
             raise ValueError("passage: the time axis needs shaft_speed (rpm), ball_diameter and pitch_diameter "
                              f"(mm) together (or shaft_speed alone for a bearing with [bearing.geometry]); got "
                              f"only {speed_keys}")
-        D = validate.number(spec["ball_diameter"], "passage.ball_diameter", low=0, low_open=True, units="mm")
-        dm = validate.number(spec["pitch_diameter"], "passage.pitch_diameter", low=D, low_open=True, units="mm")
-        rotating = validate.choice(spec.get("rotating", "inner"), "passage.rotating", ("inner", "outer"))
+        D, dm, rotating = kinematics
         rpm = validate.number(spec["shaft_speed"], "passage.shaft_speed", low=0, low_open=True, units="rpm")
         if model_speed > 0 and rpm != model_speed:
             raise validate.FieldError("passage.shaft_speed", f"must equal passage.speed ({model_speed:g} rpm) "
@@ -208,14 +191,27 @@ def read_config(config) -> PassageConfig:
                          defects, kinematics, element_loads, operating_attrs)
 
 
-def _geometry_kinematics(bearing: Bearing):
-    """(ball or mean roller diameter in mm, pitch diameter in mm, the rotating ring) of a bearing with
-    [bearing.geometry], else None."""
+def _element_kinematics(spec: dict, bearing: Bearing):
+    """(ball or mean roller diameter D in mm, pitch diameter dm in mm, the rotating ring) that place the
+    cage: a bearing with [bearing.geometry] gives them (a passage.ball_diameter or pitch_diameter that
+    differs is refused), else passage.ball_diameter, pitch_diameter and rotating; None when neither has them."""
     g = bearing.geometry
     element_diameter = getattr(g, "ball_diameter", None) or getattr(g, "roller_diameter", None)
-    if element_diameter is None:
+    if element_diameter is not None:
+        for key, value in (("ball_diameter", element_diameter), ("pitch_diameter", g.pitch_diameter)):
+            if key in spec:
+                given = validate.number(spec[key], f"passage.{key}", low=0, low_open=True, units="mm")
+                if not math.isclose(given, value, rel_tol=1e-12):
+                    raise validate.FieldError(f"passage.{key}", f"differs from [bearing.geometry]'s {value:g} mm: "
+                                              "leave it out (the bearing's geometry gives it)", given)
+        rotating = validate.choice(spec.get("rotating", getattr(g, "rotating", "inner")), "passage.rotating",
+                                   ("inner", "outer"))
+        return element_diameter, g.pitch_diameter, rotating
+    if "ball_diameter" not in spec or "pitch_diameter" not in spec:
         return None
-    return element_diameter, g.pitch_diameter, getattr(g, "rotating", "inner")
+    D = validate.number(spec["ball_diameter"], "passage.ball_diameter", low=0, low_open=True, units="mm")
+    dm = validate.number(spec["pitch_diameter"], "passage.pitch_diameter", low=D, low_open=True, units="mm")
+    return D, dm, validate.choice(spec.get("rotating", "inner"), "passage.rotating", ("inner", "outer"))
 
 
 def _revolutions(spec: dict, bearing: Bearing, positions: int):
@@ -227,19 +223,11 @@ def _revolutions(spec: dict, bearing: Bearing, positions: int):
     revolutions = validate.integer(spec.get("revolutions", 1), "passage.revolutions", low=1,
                                    high=MAX_POSITIONS // positions)
     defects = parse_defects(spec["defects"], bearing) if "defects" in spec else ()
-    g = bearing.geometry
-    element_diameter = getattr(g, "ball_diameter", None) or getattr(g, "roller_diameter", None)
-    if element_diameter is not None:  # a ball's or a roller's (its mean) diameter
-        D, dm = element_diameter, g.pitch_diameter
-        rotating = validate.choice(spec.get("rotating", getattr(g, "rotating", "inner")), "passage.rotating",
-                                   ("inner", "outer"))
-    elif "ball_diameter" in spec and "pitch_diameter" in spec:
-        D = validate.number(spec["ball_diameter"], "passage.ball_diameter", low=0, low_open=True, units="mm")
-        dm = validate.number(spec["pitch_diameter"], "passage.pitch_diameter", low=D, low_open=True, units="mm")
-        rotating = validate.choice(spec.get("rotating", "inner"), "passage.rotating", ("inner", "outer"))
-    else:
+    kinematics = _element_kinematics(spec, bearing)
+    if kinematics is None:
         raise ValueError("passage.revolutions and passage.defects need the ball's kinematics: [bearing.geometry] "
                          "(ball_diameter, pitch_diameter) or passage.ball_diameter and passage.pitch_diameter (mm)")
+    D, dm, rotating = kinematics
     angle = bearing.rows[0].contact_angle
     orders = fault_orders(D, dm, 1, angle, rotating)
     kin = Kinematics(D, dm, math.radians(angle), rotating, orders["FTF"], orders["BSF"])

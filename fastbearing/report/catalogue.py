@@ -88,7 +88,7 @@ def _type(bearing, element: str, contact_angle: float | None) -> str:
 
 def shipped_bearing(name: str) -> dict:
     """One shipped bearing's entry of :func:`shipped_bearings`; ValueError listing the names for an unknown one."""
-    from ..analysis.life import ratings
+    from ..analysis.life import ISO_C, ISO_C0, rating_sources, ratings
     from ..model.bearing_file import load_bearing, read_toml
 
     path = catalogue_file(name)
@@ -119,8 +119,9 @@ def shipped_bearing(name: str) -> dict:
         r = ratings(bearing)
         entry["C"] = None if r.C is None else float(r.C)
         entry["C0"] = None if r.C0 is None else float(r.C0)
+        kinds = rating_sources(bearing)  # catalogue value or formula: the one rule life follows
         for key, field, standard in (("C", "dynamic_load_rating", "ISO 281"), ("C0", "static_load_rating", "ISO 76")):
-            if field in geo:
+            if kinds[key] not in (ISO_C, ISO_C0):
                 sources[key] = _rating_source(comments.get(("bearing.geometry", field)))
             elif entry[key] is None:
                 sources[key] = "none: these rows are not rated as one unit"
