@@ -679,8 +679,9 @@ def four_point_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact
                 iterations = 0
             if settled:
                 flags |= 8
-        elif linearise:
-            # a ball's first evaluation inside a solve (no warm start): Newton from the cold guess to its first
+        elif linearise and warm[WARM_VALID, j] == 0.0:
+            # a ball's first evaluation inside a solve (no warm start; a ball that has not moved takes its
+            # canonical root, so that the solver's last evaluation at its answer is the model's): Newton from the cold guess to its first
             # short step, taken to first order (:func:`linear_look`), flagged 8 as a warm one; where that does
             # not reach a short step, the canonical settle below
             br, bz = _cold_guess(u, p, w_i, w_o)
