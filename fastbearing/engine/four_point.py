@@ -494,12 +494,12 @@ def _cold_guess(u, p, w_i, w_o):
 
 
 @njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
-def settle_four_point(u, p, w_i, w_o, eps, br, bz, reach):
+def settle_four_point(u, p, w_i, w_o, eps, br, bz, linear_reach):
     """The ball's centre B (mm, pair +'s frame) where its residual vanishes, by damped Newton from (br, bz)
     with the analytic Jacobian (:func:`ball_jacobian`; u: the inner groove centres as its x[2:]). Settled
     within BALL_RTOL of its largest force, or (the lightest contacts) within the rounding floor of its
     position, as high_speed's balls. Returns (br, bz, iterations, settled, and at B the ball's evaluation y,
-    st); the caller takes :func:`ball_jacobian` at B where it needs Kb or the warm start's X. With ``reach`` > 0
+    st); the caller takes :func:`ball_jacobian` at B where it needs Kb or the warm start's X. With ``linear_reach`` > 0
     (inside a solve: LINEAR_REACH; else 0, a float whatever its value so that one variant compiles) it also
     stops, "settled", where its Newton step is short (:func:`_short`), for :func:`linear_look` at B."""
     longest = 0.05 * p[DIAMETER]  # the longest step: a twentieth of the ball
@@ -517,7 +517,7 @@ def settle_four_point(u, p, w_i, w_o, eps, br, bz, reach):
             return br, bz, it, False, y, st
         step_r = (b[1] * y[0] - b[0] * y[1]) / det
         step_z = (a[0] * y[1] - a[1] * y[0]) / det
-        if reach > 0.0 and _short(u, p, br, bz, step_r, step_z, reach):
+        if linear_reach > 0.0 and _short(u, p, br, bz, step_r, step_z, linear_reach):
             return br, bz, it, True, y, st  # for :func:`linear_look`, which takes the step to first order
         t = min(1.0, longest / max(math.sqrt(step_r * step_r + step_z * step_z), 1e-300))
         for _ in range(HALVINGS):
