@@ -27,10 +27,11 @@ from numba import njit, types
 from numba.extending import overload
 
 from ..config import CACHE, ERROR_MODEL, KERNEL_FASTMATH, REFCOUNT
-from .high_speed import BALL_RTOL, _ball_constants, _inner_centre, write_contacts, write_state
+from .high_speed import (BALL_RTOL, LINEAR_REACH, _ball_constants, _inner_centre, start_position, write_contacts,
+                         write_state)
 from .schema import (AXIAL_OFFSET, COS_NOMINAL, COS_PSI, DEFLECTION_LIMIT, DIAMETER, DIRECTION, GAMMA, INERTIA,
                      INNER_ARM, INNER_CONTROL, INNER_RADIUS, K_INNER, K_OUTER, LAMBDA_INNER, LAMBDA_OUTER,
-                     MASS_RADIUS, N_WARM, OUTER_RADIUS, OUTER_SHARE, PITCH_RADIUS, SIN_PSI, WARM_BR, WARM_BZ,
+                     MASS_RADIUS, N_WARM, OUTER_RADIUS, PITCH_RADIUS, SIN_PSI, WARM_BR, WARM_BZ,
                      WARM_LINEARISE, WARM_UR, WARM_UZ, WARM_VALID, WARM_X00, WARM_X01, WARM_X10, WARM_X11)
 
 #: The Jacobian's stand-in where neither Kb nor a warm start needs it (an f-only evaluation or a record).
@@ -464,27 +465,28 @@ def _residual(br, bz, u, p, w_i, w_o, eps):
 
 @njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
 def _cold_guess(u, p, w_i, w_o):
-    """A first centre B (mm, pair +'s frame): on each loaded pair's line between its groove centres at the
-    outer contact's quasi-static share, the mean of the loaded pairs; with neither loaded, at the bottom of
-    the outer arcs pressed out by the centrifugal force at the nominal orbital speed."""
+    """A first centre B (mm, pair +'s frame), from u alone: each loaded pair's angular contact start
+    (high_speed.start_position: the inner contact loaded with max(Q, F_c0/4), the outer with that plus F_c0,
+    B where the two contacts' circles cross on the outer side; Q the quasi-static load), the mean of the
+    loaded pairs; with neither loaded, at the bottom of the outer arcs pressed out by the centrifugal force
+    at the nominal orbital speed. (Issue 47 item 6: the quasi-static share it replaced, blind to F_c, left
+    Newton 4.4 residual halvings a ball and 2 % of the balls on a fold, for the continuation in speed.)"""
     ro = p[OUTER_RADIUS]
     A0 = p[INNER_RADIUS] + ro
     c0 = p[COS_NOMINAL]
     s0 = math.sqrt(1.0 - c0 * c0)
-    L1 = math.sqrt(u[2] * u[2] + u[3] * u[3])
-    L2 = math.sqrt(u[4] * u[4] + u[5] * u[5])
-    d1 = L1 - A0
-    d2 = L2 - A0
-    r1 = (ro + p[OUTER_SHARE] * max(d1, 0.0)) / L1
-    r2 = (ro + p[OUTER_SHARE] * max(d2, 0.0)) / L2
-    b1r, b1z = r1 * u[2], r1 * u[3]
-    b2r, b2z = r2 * u[4], 2.0 * ro * s0 - r2 * u[5]
+    d1 = math.sqrt(u[2] * u[2] + u[3] * u[3]) - A0
+    d2 = math.sqrt(u[4] * u[4] + u[5] * u[5]) - A0
     if d1 > 0.0 and d2 > 0.0:
-        return 0.5 * (b1r + b2r), 0.5 * (b1z + b2z)
+        b1r, b1z, _ = start_position(u[2], u[3], p, w_i, w_o, 0.0, False)
+        b2r, b2z, _ = start_position(u[4], u[5], p, w_i, w_o, 0.0, False)
+        return 0.5 * (b1r + b2r), 0.5 * (b1z + 2.0 * ro * s0 - b2z)
     if d1 > 0.0:
+        b1r, b1z, _ = start_position(u[2], u[3], p, w_i, w_o, 0.0, False)
         return b1r, b1z
     if d2 > 0.0:
-        return b2r, b2z
+        b2r, b2z, _ = start_position(u[4], u[5], p, w_i, w_o, 0.0, False)
+        return b2r, 2.0 * ro * s0 - b2z
     wm = 0.5 * (w_i * (1.0 - p[GAMMA] * c0) + w_o * (1.0 + p[GAMMA] * c0))
     Fc = p[MASS_RADIUS] * wm * wm
     push = (0.5 * Fc / (p[K_OUTER] * c0)) ** (2.0 / 3.0)  # each outer arc's share of F_c, along its normal
@@ -492,16 +494,20 @@ def _cold_guess(u, p, w_i, w_o):
 
 
 @njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
-def settle_four_point(u, p, w_i, w_o, eps, br, bz):
+def settle_four_point(u, p, w_i, w_o, eps, br, bz, linear_reach):
     """The ball's centre B (mm, pair +'s frame) where its residual vanishes, by damped Newton from (br, bz)
     with the analytic Jacobian (:func:`ball_jacobian`; u: the inner groove centres as its x[2:]). Settled
     within BALL_RTOL of its largest force, or (the lightest contacts) within the rounding floor of its
     position, as high_speed's balls. Returns (br, bz, iterations, settled, and at B the ball's evaluation y,
-    st); the caller takes :func:`ball_jacobian` at B where it needs Kb or the warm start's X."""
+    st); the caller takes :func:`ball_jacobian` at B where it needs Kb or the warm start's X. With ``linear_reach`` > 0
+    (inside a solve: LINEAR_REACH; else 0, a float whatever its value so that one variant compiles) it also
+    stops, "settled", where its Newton step is short (:func:`_short`), for :func:`linear_look` at B."""
     longest = 0.05 * p[DIAMETER]  # the longest step: a twentieth of the ball
     reach = p[INNER_RADIUS] + p[OUTER_RADIUS] + abs(u[2]) + abs(u[3]) + abs(u[4]) + abs(u[5])
     res, scale, y, st = _residual(br, bz, u, p, w_i, w_o, eps)
     for it in range(ITERATIONS + 1):
+        if res <= BALL_RTOL * scale:  # settled whatever the rounding floor: no Jacobian needed to say so
+            return br, bz, it, True, y, st
         a, b = _newton_jacobian(br, bz, u, p, w_i, w_o, eps)
         floor = 8.0 * 2.220446049250313e-16 * reach * (abs(a[0]) + abs(a[1]) + abs(b[0]) + abs(b[1]))
         if res <= max(BALL_RTOL * scale, floor):
@@ -511,6 +517,8 @@ def settle_four_point(u, p, w_i, w_o, eps, br, bz):
             return br, bz, it, False, y, st
         step_r = (b[1] * y[0] - b[0] * y[1]) / det
         step_z = (a[0] * y[1] - a[1] * y[0]) / det
+        if linear_reach > 0.0 and _short(u, p, br, bz, step_r, step_z, linear_reach):
+            return br, bz, it, True, y, st  # for :func:`linear_look`, which takes the step to first order
         t = min(1.0, longest / max(math.sqrt(step_r * step_r + step_z * step_z), 1e-300))
         for _ in range(HALVINGS):
             trial, trial_scale, y_t, st_t = _residual(br - t * step_r, bz - t * step_z, u, p, w_i, w_o, eps)
@@ -534,7 +542,7 @@ def canonical_settle(u, p, w_i, w_o, eps):
     sit on a fold of the residual (Newton stops where its Jacobian is singular, not at a root: issue 47);
     the continuation goes round it. Returns :func:`settle_four_point`'s tuple, its iterations summed."""
     br, bz = _cold_guess(u, p, w_i, w_o)
-    first = settle_four_point(u, p, w_i, w_o, eps, br, bz)
+    first = settle_four_point(u, p, w_i, w_o, eps, br, bz, 0.0)
     if first[3]:
         return first
     iterations = first[2]
@@ -544,18 +552,75 @@ def canonical_settle(u, p, w_i, w_o, eps):
     halvings = 0
     while True:
         s = min(1.0, done + step)
-        out = settle_four_point(u, p, w_i * s, w_o * s, eps, br, bz)
+        out = settle_four_point(u, p, w_i * s, w_o * s, eps, br, bz, 0.0)
         iterations += out[2]
         if out[3]:
             done = s
             br, bz = out[0], out[1]
             if done >= 1.0:
                 return out[0], out[1], iterations, True, out[4], out[5]
+            # a step that settles lets the next one grow back to the first's length: a single hard stretch
+            # of the way (a fold) costs its halvings there, not all the way to full speed (issue 47 item 6:
+            # one ball took 17 000 Newton steps at a constant 1/32 768 of the speed)
+            step = min(2.0 * step, 1.0 / SPEED_STEPS)
         else:
             halvings += 1
             if halvings > SPEED_HALVINGS:
                 return first[0], first[1], iterations, False, first[4], first[5]
             step *= 0.5
+
+
+@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def _short(u, p, br, bz, s_r, s_z, reach):
+    """Whether the Newton step s (B' = B - s) moves no contact's centre distance by more than ``reach`` of its
+    deflection (an open contact: of its gap); False for a NaN step."""
+    ro = p[OUTER_RADIUS]
+    ri = p[INNER_RADIUS]
+    bz2 = 2.0 * ro * math.sqrt(1.0 - p[COS_NOMINAL] * p[COS_NOMINAL]) - bz  # pair -'s frame mirrors B_z
+    Lo1 = math.sqrt(br * br + bz * bz)
+    Lo2 = math.sqrt(br * br + bz2 * bz2)
+    vr1, vz1, vr2, vz2 = u[2] - br, u[3] - bz, u[4] - br, u[5] - bz2
+    Li1 = math.sqrt(vr1 * vr1 + vz1 * vz1)
+    Li2 = math.sqrt(vr2 * vr2 + vz2 * vz2)
+    return (abs(br * s_r + bz * s_z) <= reach * abs(Lo1 - ro) * Lo1
+            and abs(br * s_r - bz2 * s_z) <= reach * abs(Lo2 - ro) * Lo2
+            and abs(vr1 * s_r + vz1 * s_z) <= reach * abs(Li1 - ri) * Li1
+            and abs(vr2 * s_r - vz2 * s_z) <= reach * abs(Li2 - ri) * Li2)
+
+
+@njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
+def linear_look(u, p, w_i, w_o, eps, br, bz):
+    """A moved ball's one look at its prediction B (inside a solve): the ball's evaluation (y, st) and its six
+    Jacobian columns J (:func:`ball_jacobian`) at B, and what to make of them, as the angular contact ball's
+    ``_judge``. Returns (br, bz, settled, stepped, y, st, J):
+
+    - settled at B (the residual within BALL_RTOL of its largest force, the test :func:`settle_four_point`
+      makes first): B, y, st and J as a settle from B and :func:`ball_jacobian` give them (to rounding:
+      compiled here, fastmath may contract them otherwise; inside a solve, where the evaluation is flagged);
+    - else, where the Newton step s = G_B^-1 g moves no contact's centre distance by more than LINEAR_REACH
+      of its deflection (open contacts: of their gap), linearised: the centre B - s, and y's ring outputs
+      moved to first order, y + Y_B (-s) (st stays B's: loads and angles for the trial's record, which the
+      solver's last, canonical evaluation writes again); J stays B's (Kb and the next prediction);
+    - else ``stepped``: the caller settles the ball from B (y, st, J then of no use).
+
+    The evaluation is flagged 8 by the caller either way: a linearised ball is first-order close, and the
+    canonical root is taken at the solve's answer."""
+    y, st = four_point_ball(br, bz, u[2], u[3], u[4], u[5], p, w_i, w_o, eps)
+    J = ball_jacobian((br, bz, u[2], u[3], u[4], u[5]), p, w_i, w_o, eps)
+    scale = st[0] + st[1] + st[2] + st[3] + abs(st[12])
+    if max(abs(y[0]), abs(y[1])) <= BALL_RTOL * scale:
+        return br, bz, True, False, y, st, J
+    a = J[0]
+    b = J[1]
+    det = a[0] * b[1] - b[0] * a[1]
+    s_r = (b[1] * y[0] - b[0] * y[1]) / det
+    s_z = (a[0] * y[1] - a[1] * y[0]) / det
+    if not _short(u, p, br, bz, s_r, s_z, LINEAR_REACH):  # also a NaN step (det 0)
+        return br, bz, False, True, y, st, J
+    y = (y[0], y[1], y[2] - (a[2] * s_r + b[2] * s_z), y[3] - (a[3] * s_r + b[3] * s_z),
+         y[4] - (a[4] * s_r + b[4] * s_z), y[5] - (a[5] * s_r + b[5] * s_z), y[6] - (a[6] * s_r + b[6] * s_z),
+         y[7] - (a[7] * s_r + b[7] * s_z))
+    return br - s_r, bz - s_z, True, False, y, st, J
 
 
 @njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
@@ -590,6 +655,8 @@ def four_point_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact
         # evaluation (the same u, bit for bit) and every other one take the canonical root, a property of q
         # alone (:func:`canonical_settle`), so that stiffness(q), ball_contacts(q) and the records repeat it
         settled = False
+        have_jacobian = False
+        J = _NO_JACOBIAN
         if (linearise and warm[WARM_VALID, j] != 0.0
                 and not (warm[WARM_UR, j] == u1r and warm[WARM_UZ, j] == u1z
                          and warm[WARM_UR, m_col] == u2r and warm[WARM_UZ, m_col] == u2z)):
@@ -602,10 +669,30 @@ def four_point_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact
                                      + warm[WARM_X00, m_col] * du2r + warm[WARM_X01, m_col] * du2z)
             bz = warm[WARM_BZ, j] - (warm[WARM_X10, j] * du1r + warm[WARM_X11, j] * du1z
                                      + warm[WARM_X10, m_col] * du2r + warm[WARM_X11, m_col] * du2z)
-            br, bz, iterations, settled, y, st = settle_four_point(u, p, w_i, w_o, eps, br, bz)
+            # one look at the prediction (:func:`linear_look`): settled there, or a Newton step short against
+            # every contact's deflection, taken to first order (the ball's forces and centre), or a settle
+            br, bz, settled, stepped, y, st, J = linear_look(u, p, w_i, w_o, eps, br, bz)
+            have_jacobian = settled and not stepped
+            if stepped:
+                br, bz, iterations, settled, y, st = settle_four_point(u, p, w_i, w_o, eps, br, bz, 0.0)
+            else:
+                iterations = 0
             if settled:
                 flags |= 8
+        elif linearise and warm[WARM_VALID, j] == 0.0:
+            # a ball's first evaluation inside a solve (no warm start; a ball that has not moved takes its
+            # canonical root, so that the solver's last evaluation at its answer is the model's): Newton from the cold guess to its first
+            # short step, taken to first order (:func:`linear_look`), flagged 8 as a warm one; where that does
+            # not reach a short step, the canonical settle below
+            br, bz = _cold_guess(u, p, w_i, w_o)
+            br, bz, iterations, ready, y, st = settle_four_point(u, p, w_i, w_o, eps, br, bz, LINEAR_REACH)
+            if ready:
+                br, bz, settled, stepped, y, st, J = linear_look(u, p, w_i, w_o, eps, br, bz)
+                have_jacobian = settled
+                if settled:
+                    flags |= 8
         if not settled:
+            have_jacobian = False
             br, bz, iterations, settled, y, st = canonical_settle(u, p, w_i, w_o, eps)
         warm[WARM_BR, j] = br
         warm[WARM_BZ, j] = bz
@@ -614,7 +701,8 @@ def four_point_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact
         warm[WARM_UR, m_col] = u2r
         warm[WARM_UZ, m_col] = u2z
         x = (br, bz, u1r, u1z, u2r, u2z)
-        J = ball_jacobian(x, p, w_i, w_o, eps) if K is not None or linearise else _NO_JACOBIAN
+        if not have_jacobian and (K is not None or linearise):
+            J = ball_jacobian(x, p, w_i, w_o, eps)
         det = J[0][0] * J[1][1] - J[1][0] * J[0][1]
         for col, k in ((j, 2), (m_col, 4)):  # X = G_B^-1 G_u: its u1 columns at j, its u2 columns at m
             gr0, gz0, gr1, gz1 = J[k][0], J[k][1], J[k + 1][0], J[k + 1][1]

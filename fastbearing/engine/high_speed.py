@@ -807,6 +807,15 @@ def _ball_pass(q, table, speed_table, omega, eps, ball_load, contact_angle, stat
     return sums, total, n_loaded, flags
 
 
+@njit(inline="always")
+def _any_ordinary(speed_table):
+    """Whether any column is an angular contact ball (not a four-point ball's pair, PARTNER < 0)."""
+    for j in range(speed_table.shape[1]):
+        if speed_table[PARTNER, j] < 0.0:
+            return True
+    return False
+
+
 @njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
 def spinning_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact_angle, states, warm):
     """Write f (5) and, unless ``K`` is None, Kb (5x5, not symmetric) of the ball rows at shaft speed.
@@ -838,6 +847,15 @@ def spinning_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact_a
         if K is not None:
             K[:, :] = math.nan
         return math.nan, 0, 4
+    if not _any_ordinary(speed_table):
+        # only four-point balls (engine/four_point.py settles them): the pass would take every column's state
+        # and use none of them (issue 47 item 6: a sixth of a QJ 210 case at speed); f and Kb as it leaves them
+        for i in range(5):
+            f[i] = 0.0
+            if K is not None:
+                for k in range(5):
+                    K[i, k] = 0.0
+        return 0.0, 0, 0
     sums, total, n_loaded, flags = _ball_pass(q, table, speed_table, omega, eps, ball_load, contact_angle, states,
                                               warm)
     fs, acc0, acc1, acc2, acc3, acc4 = sums
