@@ -95,3 +95,20 @@ def test_map_summary_and_cli_say_it(tmp_path):
     assert "warning: beyond_validity" in s.stdout
     b = cli_run("bearing", B6305)
     assert "validity: ball deflection <= 0.0830919 mm (Hertz pressure 4200 N/mm^2)" in b.stdout
+
+
+@pytest.mark.parametrize("speed", [0.0, 3000.0])
+def test_a_ring_pushed_through_its_ball_is_flagged_contact_reversed(speed):
+    """One ball (at psi = 0) under a load away from it: the equations have a root with the inner ring 0.81 mm
+    through the ball (its groove centres crossed over radially, |A| - A0 > 0 again on the far side), which no
+    ring can reach; it is flagged, not returned as a plain converged answer. Loaded towards the ball, and a
+    full ball set either way, it is not."""
+    import dataclasses
+
+    b = fb.load_bearing("6205")
+    one = dataclasses.replace(b, rows=(dataclasses.replace(b.rows[0], n_balls=1),))
+    away = fb.solve(one, [-1000.0, 0.0, 0.0, 0.0, 0.0], speed=speed)
+    assert away.q[0] < -0.5 and away.status_name == "converged+contact_reversed"
+    towards = fb.solve(one, [1000.0, 0.0, 0.0, 0.0, 0.0], speed=speed)
+    assert towards.status == st.CONVERGED and 0.0 < towards.q[0] < 0.05
+    assert fb.solve(b, [-1000.0, 0.0, 0.0, 0.0, 0.0], speed=speed).status == st.CONVERGED

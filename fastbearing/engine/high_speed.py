@@ -794,6 +794,8 @@ def _ball_pass(q, table, speed_table, omega, eps, ball_load, contact_angle, stat
                 flags |= 4
             if loaded and si < 0.0 and table[UZ0, j] != 0.0:  # a level row (a0 = 0) has no direction to reverse
                 flags |= 1
+            if loaded and ci * table[UR0, j] < 0.0:  # groove centres crossed over radially (kernel.ball_sums)
+                flags |= 1
             if d_i + d_o > table[DEFLECTION_LIMIT, j]:
                 flags |= 2
             total += Qi

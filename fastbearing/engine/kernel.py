@@ -443,6 +443,10 @@ def ball_sums(q, table, base, n, exponent, smoothing, K, ball_load, contact_angl
         # a row whose groove centres sit level at rest (a0 = 0, no axial preload: deep groove) has no
         # contact direction to reverse: its balls take either shoulder
         n_reversed += loaded & (direction[j] * uz < 0.0) & (uz0[j] != 0.0)
+        # ... and any row's ball loaded with its groove centres crossed over radially (ur against ur0: the
+        # ring has passed through the ball, the contact angle beyond 90 deg; e.g. one ball under a load
+        # away from it), a geometry |A| - A0 counts as a contact but no ring can have
+        n_reversed += loaded & (ur * ur0[j] < 0.0)
         n_beyond += delta > limit[j]
         if ball_load is not None:
             ball_load[j] = Q * share[j]
