@@ -1,6 +1,6 @@
 """Not a benchmark: an A/B of the engine's CPU compute, this tree against an older revision, in one process.
 
-    python bench/ab_trees.py REV [rounds] [threads]
+    python bench/ab_trees.py REV [rounds] [threads] [workload]
 
 ``git archive REV`` is unpacked into a temporary folder and its package imported as ``fastbearing_ab`` beside
 this tree's ``fastbearing`` (each with its own numba cache), so both run in the same process on the same
@@ -10,7 +10,8 @@ machine state, alternating round by round. Timed, compute alone (no HDF5), as th
 - the speed map: the shipped spindle example at 25 speeds x 10 x 400 (100 000 cases) in one block;
 - a ball-passage table: the DB pair, 1000 points x 64 positions (``passage.compute_block``).
 
-Prints the median (min) seconds of each and whether both trees' results are equal bit for bit (every array).
+Prints the median (min) seconds of each and whether both trees' results are equal bit for bit (every array;
+those that differ are named). ``workload``: only those whose name contains it (e.g. ``speed``).
 Used for issue 46 (the engine's records replacing positional lists must leave the CPU's speed unchanged).
 """
 
@@ -26,6 +27,7 @@ import numba
 import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))  # this tree's package, whatever else is installed
 
 
 def load_old(rev: str, folder: Path):
@@ -73,13 +75,29 @@ def workloads():
             "passage table, 1000 x 64": lambda pkg: passage_case(pkg, table)}
 
 
-def main(rev="HEAD", rounds=5, threads=None):
+def differences(a: dict, b: dict) -> list[str]:
+    """The result arrays that differ between the trees, with how many entries."""
+    out = []
+    for k in a:
+        x, y = a[k], b[k]
+        same = (x == y) | (np.isnan(x) & np.isnan(y)) if x.dtype.kind == "f" else x == y
+        if not same.all():
+            out.append(f"{k} ({int((~same).sum())} of {same.size})")
+    return out
+
+
+def main(rev="HEAD", rounds=5, threads=None, only=""):
     if threads:
         numba.set_num_threads(int(threads))
     with tempfile.TemporaryDirectory() as tmp:
         load_old(rev, Path(tmp))
-        print(f"A: {rev} (fastbearing_ab), B: this tree; {numba.get_num_threads()} threads, {rounds} rounds")
+        import fastbearing
+
+        print(f"A: {rev} (fastbearing_ab), B: {Path(fastbearing.__file__).parent}; {numba.get_num_threads()} threads, "
+              f"{rounds} rounds")
         for name, make in workloads().items():
+            if only and only not in name:
+                continue
             runs = {tree: make(pkg) for tree, pkg in (("A", "fastbearing_ab"), ("B", "fastbearing"))}
             stop = np.zeros(1, np.int64)
             for compute, res, inputs in runs.values():
@@ -90,12 +108,12 @@ def main(rev="HEAD", rounds=5, threads=None):
                     started = time.perf_counter()
                     compute(inputs, res, 0, stop)
                     times[tree].append(time.perf_counter() - started)
-            same = all(np.array_equal(runs["A"][1][k], runs["B"][1][k], equal_nan=runs["A"][1][k].dtype.kind == "f")
-                       for k in runs["A"][1])
+            differ = differences(runs["A"][1], runs["B"][1])
+            same = "yes" if not differ else "no: " + ", ".join(differ)
             text = ", ".join(f"{tree} {np.median(t):.3f} s ({min(t):.3f})" for tree, t in times.items())
             ratio = np.median(times["B"]) / np.median(times["A"])
             print(f"{name}: {text}; B/A {ratio:.3f}; results equal bit for bit: {same}")
 
 
 if __name__ == "__main__":
-    main(*sys.argv[1:4])
+    main(*sys.argv[1:5])

@@ -119,15 +119,13 @@ def resources(kind):
     if gpu.simulated():
         return f"  {kind} kernel: simulator (no registers to report)"
     lines = []
-    for (k, parts), kernel in gpu._KERNELS.items():
-        if k != kind:
-            continue
-        for sig in kernel.overloads:
-            regs = kernel.get_regs_per_thread(sig)
-            local = kernel.get_local_mem_per_thread(sig)
-            warps = min(64, 65536 // max(regs * 32, 1) // 4 * 4)
-            lines.append(f"  {kind} kernel {parts}: {regs} registers, {local} B local memory per thread; registers "
-                         f"allow {warps} of 64 warps per SM ({100 * warps / 64:.0f} % theoretical occupancy)")
+    kernel = gpu.kernel(kind)
+    for sig in kernel.overloads:
+        regs = kernel.get_regs_per_thread(sig)
+        local = kernel.get_local_mem_per_thread(sig)
+        warps = min(64, 65536 // max(regs * 32, 1) // 4 * 4)
+        lines.append(f"  {kind} kernel, {len(sig)} arguments: {regs} registers, {local} B local memory per thread; "
+                     f"registers allow {warps} of 64 warps per SM ({100 * warps / 64:.0f} % theoretical occupancy)")
     return "\n".join(lines) or f"  {kind} kernel: not compiled"
 
 

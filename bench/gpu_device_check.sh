@@ -10,8 +10,8 @@
 # the roller map, the 1e8-case float32 K map (its 10 GB file in a temporary folder, removed at the end).
 # Figures: $OUT/gpu-device-check.txt where $OUT is set (the device machine brings $OUT back), else
 # bench/gpu-device-check.txt; written afresh on every run. Safe to rerun: the temporary folder goes on exit
-# (also on Ctrl-C or a timeout), the file is replaced, numba's CPU cache is kept. The CUDA kernels are
-# compiled in every process (numba-cuda keeps no disk cache of them yet: docs/gpu.md), which the budget allows for.
+# (also on Ctrl-C or a timeout), the file is replaced, numba's cache is kept: the CPU kernels and the CUDA kernels
+# (engine/cuda_kernels.py, cache=True), so a rerun compiles nothing; the first run's compiling is in the budget.
 # Exit status: 0 when every stage ran and agreed, 1 on a disagreement, 2 when a stage failed or was cut short.
 # BUDGET_S (default 480) is the whole check's time; PYTHON (default python) the interpreter.
 set -u -o pipefail

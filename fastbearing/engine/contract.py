@@ -14,6 +14,8 @@ Units: N, mm, rad; shaft speeds rad/s.
 
 from collections import namedtuple
 
+import numpy as np
+
 from .high_speed import warm_rows
 from .schema import LIFE_SLICES
 
@@ -59,6 +61,11 @@ Positions = namedtuple("Positions", "tables slices speed_tables")
 #: (warm_rows, n_balls; None quasi-static); ``outer_load``, ``outer_count`` (rows,) the outer contacts' row
 #: summary at speed.
 Scratch = namedtuple("Scratch", "work predictor ball_load contact_angle sums spin outer_load outer_count")
+
+#: The GPU's stand-in for a part a record lacks (numba-cuda passes arrays and scalars to a kernel, not None): a
+#: one-element bool array, a type no real table has, which the kernels turn back into None while typing
+#: (engine/cuda_kernels.py), so no code is compiled for the part.
+ABSENT = np.zeros(1, np.bool_)
 
 #: The sizes of a Scratch (:func:`scratch_shape`): the record's length, the life sums' rows, the bearing's
 #: rows, and the warm starts' rows and columns ((1, 1) without a speed table).

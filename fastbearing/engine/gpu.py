@@ -1,13 +1,16 @@
 """The engine on CUDA: the CPU's own kernels compiled as numba-cuda device functions, thin drivers around them.
 
 Nothing here is physics. numba-cuda compiles any ``@njit`` function (and every ``@overload`` of the
-generic target) that a CUDA kernel calls as a device function from the same Python source, so the two
-kernels below call :func:`fastbearing.engine.solver.solve_case` (one case per thread, as
-:func:`fastbearing.engine.sweep.solve_sweep` does per case) and :func:`fastbearing.engine.sweep.map_runs`
-(one continuation run of a map per thread, as :func:`fastbearing.engine.sweep.map_sweep` does per group):
-statuses, warm starts, the tangent/curved predictors along a map line, the high-speed balls, roller rows and
-the life variables are the CPU's code. Scratch: the solver's and the predictor's as ``cuda.local.array``,
-the per-element record and the balls' warm starts as one row per thread of a device array.
+generic target) that a CUDA kernel calls as a device function from the same Python source, so the three
+kernels (engine/cuda_kernels.py: module-level, cached on disk) call the CPU's per-case bodies:
+:func:`fastbearing.engine.sweep.solve_into` (one case per thread, as sweep.solve_sweep does per case),
+:func:`fastbearing.engine.sweep.map_runs` (one continuation run of a map per thread, as sweep.map_sweep does per
+group) and :func:`fastbearing.engine.sweep.passage_point` (one operating point per thread): statuses, warm
+starts, the tangent/curved predictors along a map line, the high-speed balls, roller rows and the life variables
+are the CPU's code. The drivers here take and pass the same records as the CPU's (engine/contract.py); a
+thread's scratch is sized by the same contract.scratch_shape: the solver's and the predictor's as
+``cuda.local.array``, the per-element record, life sums and the balls' warm starts as one row per thread of a
+device array (:data:`ThreadRows`).
 
 This module is imported only when a caller asks for ``device="cuda"``; :func:`require_cuda` says in one
 sentence what is missing (numba-cuda, a CUDA driver or a GPU). Under numba's CUDA simulator
@@ -32,16 +35,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from numba import njit
-
 from collections import namedtuple
 
-from ..config import CACHE, ERROR_MODEL, REFCOUNT
-from .contract import CaseBlock, Elements, Positions, Scratch, ScratchShape, scratch_shape
+from .contract import ABSENT, CaseBlock, Elements, Positions, ScratchShape, scratch_shape
 from .high_speed import warm_rows
 from .schema import ElementSet
-from .solver import WORK_ROWS
-from .sweep import PREDICTOR_ROWS, at_speed, map_runs, passage_point, solve_into
 from .device import CudaUnavailable, describe, import_cuda, require_cuda, simulated  # noqa: F401 (re-exported)
 
 #: Threads per block of both kernels (each thread runs a whole solve: register-heavy code).
@@ -52,178 +50,26 @@ MAX_THREADS = 1 << 20
 SCRATCH_BYTES = 1 << 30
 
 
-@njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
-def map_run(run, elements, cases, given_load, settings, stop, scratch):
-    """Continuation run ``run`` of a map block: :func:`fastbearing.engine.sweep.map_runs` on that run alone, with the
-    same arguments (one thread's scratch)."""
-    map_runs(range(run, run + 1), elements, cases, given_load, settings, stop, scratch)
-
-
-@njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
-def solve_one(cases, balls, i, settings, warm, work):
-    """Case i of :func:`fastbearing.engine.sweep.solve_sweep` (its balls at ``cases.speeds[i]`` rad/s with a speed
-    table, their warm starts ``balls.warm`` fresh) into ``cases.results``: sweep.solve_into, the CPU's per-case
-    body. An njit function, not kernel code, so that the simulator runs it compiled (it calls the sweep's
-    typing-time choice at_speed)."""
-    solve_into(cases, i, at_speed(balls, cases.speeds, i, balls.warm, True), settings, warm, work)
-
-
-@njit(inline="always")
-def thread_scratch(work, predictor, rows, t, spin):
-    """Thread t's contract.Scratch: its local ``work`` and ``predictor`` arrays, its rows of the launch's
-    ThreadRows ``rows`` and its balls' warm starts ``spin`` (None quasi-static)."""
-    return Scratch(work, predictor, rows.ball_load[t], rows.contact_angle[t], rows.sums[t], spin, rows.outer_load[t],
-                   rows.outer_count[t])
-
-
-#: numba.cuda once imported (:func:`_cuda`): a module global, which the kernels name (the simulator swaps it).
+#: numba.cuda once imported (:func:`_cuda`).
 cuda = None
 
 
 def _cuda():
-    """numba.cuda (fastbearing.engine.device.import_cuda), kept as this module's global for the kernels."""
+    """numba.cuda (fastbearing.engine.device.import_cuda), kept as this module's global."""
     global cuda
     if cuda is None:
         cuda = import_cuda()
     return cuda
 
 
-if simulated():
-    def native(x):
-        """The simulator's device array as the NumPy array it wraps, which the CPU-compiled kernels take; a record
-        (namedtuple) field by field."""
-        if isinstance(x, tuple) and hasattr(x, "_fields"):
-            return type(x)(*(native(v) for v in x))
-        return getattr(x, "_ary", x)
-else:
-    @njit(inline="always")
-    def native(x):
-        """On the GPU a device array (or a record of them, which numba-cuda flattens) is the kernels' own
-        argument: nothing to do."""
-        return x
+def kernel(kind: str):
+    """The CUDA kernel of ``kind`` ("solve", "map" or "passage"): engine/cuda_kernels.py's module-level kernels,
+    cached on disk by numba-cuda (imported here: it imports numba.cuda)."""
+    _cuda()
+    from . import cuda_kernels
 
-
-# -- kernels: one per combination of the element set's optional parts (None compiles no code for a part) --------
-
-_KERNELS = {}
-
-
-def _parts(balls: ElementSet) -> tuple[bool, bool, bool, bool]:
-    """Which optional parts the element set has: per-ball exponents, roller slices, speed table, four-point."""
-    return (balls.exponents is not None, balls.slices is not None, balls.speed_table is not None,
-            balls.four_point is not None)
-
-
-def _kernel(kind: str, parts: tuple[bool, ...]):
-    key = (kind, parts)
-    if key not in _KERNELS:
-        _cuda()
-        _KERNELS[key] = {"solve": _make_solve, "map": _make_map, "passage": _make_passage}[kind](*parts)
-    return _KERNELS[key]
-
-
-def _element_set_maker(has_exponents, has_slices, has_speed, has_four_point):
-    """The kernels' ElementSet from its device form (:func:`device_elements`: every part an array, a placeholder
-    where the bearing has none): a part the bearing lacks is None again (the branches test the closure's
-    constants and are pruned while typing, so no code is compiled for it), and a bearing at speed takes thread
-    t's row of the balls' warm starts ``spin_all``. One function for every kernel."""
-
-    @njit(inline="always")
-    def element_set(tables, spin_all, t):
-        if has_exponents:
-            exps = tables.exponents
-        else:
-            exps = None
-        if has_slices:
-            sl = tables.slices
-        else:
-            sl = None
-        if has_speed:
-            st = tables.speed_table
-            spin = spin_all[t]
-        else:
-            st = None
-            spin = None
-        if has_four_point:
-            fp = tables.four_point
-        else:
-            fp = None
-        return ElementSet(tables.balls, exps, tables.smoothing, sl, st, tables.omega, spin, fp)
-
-    return element_set
-
-
-def _make_solve(has_exponents, has_slices, has_speed, has_four_point):
-    """The cold/warm solve of every case of a CaseBlock (its results a contract.Solutions), one case per thread
-    (grid stride), as sweep.solve_sweep: case i at ``speeds[i]`` rad/s with a speed table, its balls' warm
-    starts fresh."""
-    element_set = _element_set_maker(has_exponents, has_slices, has_speed, has_four_point)
-    from numba import float64
-
-    @cuda.jit
-    def solve(tables, cases, spin_all, settings, warm):
-        t = cuda.grid(1)
-        n_threads = cuda.gridsize(1)
-        work = cuda.local.array((WORK_ROWS, 5), float64)
-        tables, cases, spin_all = native(tables), native(cases), native(spin_all)
-        balls = element_set(tables, spin_all, t)
-        for i in range(t, cases.inputs.shape[0], n_threads):
-            solve_one(cases, balls, i, settings, warm, work)
-
-    return solve
-
-
-def _make_map(has_exponents, has_slices, has_speed, has_four_point):
-    """One block of a load or displacement map, one continuation run per thread: sweep.map_runs itself
-    (cold start, tangent and curved predictors along the run, per-row summaries, life)."""
-    element_set = _element_set_maker(has_exponents, has_slices, has_speed, has_four_point)
-    from numba import float64
-
-    @cuda.jit
-    def map_block(elements, cases, given_load, settings, stop, rows):
-        t = cuda.grid(1)
-        n_threads = cuda.gridsize(1)
-        work = cuda.local.array((WORK_ROWS, 5), float64)
-        predictor = cuda.local.array((PREDICTOR_ROWS, 5), float64)
-        elements, cases, stop, rows = native(elements), native(cases), native(stop), native(rows)
-        balls = element_set(elements.balls, rows.spin, t)
-        mine = Elements(balls, elements.ball_row, elements.life, elements.C0)
-        scratch = thread_scratch(work, predictor, rows, t, balls.warm)
-        for run in range(t, cases.segments.shape[0] - 1, n_threads):
-            map_run(run, mine, cases, given_load, settings, stop, scratch)
-
-    return map_block
-
-
-def _make_passage(has_exponents, has_slices, has_speed, has_four_point, has_slice_tables, has_speed_tables):
-    """Ball-passage tables, one operating point per thread (grid stride): sweep.passage_point itself, every cage
-    position from the previous one's converged q. ``has_slice_tables``, ``has_speed_tables``: roller slice
-    tables and high-speed tables per position (defects at speed)."""
-    element_set = _element_set_maker(has_exponents, has_slices, has_speed, has_four_point)
-    from numba import float64
-
-    @cuda.jit
-    def passage_block(elements, positions, cases, given_load, settings, rows):
-        t = cuda.grid(1)
-        n_threads = cuda.gridsize(1)
-        work = cuda.local.array((WORK_ROWS, 5), float64)
-        elements, positions, cases, rows = native(elements), native(positions), native(cases), native(rows)
-        balls = element_set(elements.balls, rows.spin, t)
-        mine = Elements(balls, elements.ball_row, elements.life, elements.C0)
-        if has_slice_tables:                      # the stacks per position, None where absent (as element_set)
-            sl_tables = positions.slices
-        else:
-            sl_tables = None
-        if has_speed_tables:
-            st_tables = positions.speed_tables
-        else:
-            st_tables = None
-        at = Positions(positions.tables, sl_tables, st_tables)
-        scratch = thread_scratch(work, work, rows, t, balls.warm)   # no predictor in a passage table
-        for i in range(t, cases.inputs.shape[0], n_threads):
-            passage_point(i, mine, at, cases, given_load, settings, scratch)
-
-    return passage_block
+    return {"solve": cuda_kernels.solve_kernel, "map": cuda_kernels.map_kernel,
+            "passage": cuda_kernels.passage_kernel}[kind]
 
 
 # -- host side -------------------------------------------------------------------------------------------------------
@@ -242,7 +88,7 @@ def thread_bytes(shape: ScratchShape, with_speed: bool) -> int:
 def thread_rows(put, alloc, shape: ScratchShape, n_threads: int, counts_dtype, with_speed: bool) -> ThreadRows:
     """The ThreadRows of ``n_threads`` threads (the balls' warm starts zeroed: every ball cold, new_warm)."""
     T = n_threads
-    spin = np.zeros((T, shape.warm_rows, shape.n_balls) if with_speed else (1, 1, 1))
+    spin = np.zeros((T, shape.warm_rows, shape.n_balls) if with_speed else (T, 1, 1))
     return ThreadRows(alloc((T, shape.record), np.float64), alloc((T, shape.record), np.float64),
                       alloc((T, shape.life_rows, 2), np.float64), put(spin), alloc((T, shape.rows), np.float64),
                       alloc((T, shape.rows), counts_dtype))
@@ -256,20 +102,27 @@ def _launch(n_work: int, per_thread_bytes: int, cap: int = MAX_THREADS) -> tuple
     return blocks, tpb
 
 
-def _placeholder(a, ndim: int) -> np.ndarray:
-    """``a`` as a contiguous array, or a one-element float64 array of ``ndim`` dims for a part that is None
-    (numba-cuda passes arrays and scalars, not None)."""
-    return np.ascontiguousarray(a if a is not None else np.zeros((1,) * ndim))
+def _part(a) -> np.ndarray:
+    """``a`` as a contiguous array, or contract.ABSENT for a part that is None."""
+    return ABSENT if a is None else np.ascontiguousarray(a)
 
 
 def device_elements(put, balls: ElementSet) -> ElementSet:
-    """The element set as a kernel argument: every part through ``put`` (to the device), a one-element placeholder
-    for a part it lacks and for the warm starts (each thread's are its ThreadRows row); the kernels' element_set
-    makes the parts None again."""
-    return ElementSet(put(_placeholder(balls.balls, 2)), put(_placeholder(balls.exponents, 1)),
-                      float(balls.smoothing), put(_placeholder(balls.slices, 2)),
-                      put(_placeholder(balls.speed_table, 2)), float(balls.omega), put(_placeholder(None, 3)),
-                      put(_placeholder(balls.four_point, 2)))
+    """The element set as a kernel argument: every part through ``put`` (to the device), contract.ABSENT for a part
+    it lacks and for the warm starts (each thread's are its row of the launch's warm starts); the kernels make
+    those None again (cuda_kernels.element_set)."""
+    return ElementSet(put(_part(balls.balls)), put(_part(balls.exponents)), float(balls.smoothing),
+                      put(_part(balls.slices)), put(_part(balls.speed_table)), float(balls.omega), put(ABSENT),
+                      put(_part(balls.four_point)))
+
+
+def warm_starts(balls: ElementSet, n_threads: int) -> np.ndarray:
+    """Every thread's warm starts for the balls at speed, zeroed (every ball cold, high_speed.new_warm); a
+    (n_threads, 1, 1) stand-in for a quasi-static bearing (indexed, never read)."""
+    if balls.speed_table is None:
+        return np.zeros((n_threads, 1, 1))
+    n_balls = max(balls.balls.shape[1], 1)
+    return np.zeros((n_threads, warm_rows(n_balls), n_balls))
 
 
 def _inputs(put, cases: CaseBlock, results):
@@ -318,11 +171,8 @@ def map_plan(elements, cases) -> LaunchPlan:
 def _solve_args(put, alloc, balls, cases, settings, warm):
     """(blocks, threads per block, the solve kernel's arguments, the device results); ``put`` copies a host array
     to the device, ``alloc(shape, dtype)`` allocates there."""
-    n_balls = max(balls.balls.shape[1], 1)
-    spinning = balls.speed_table is not None
-    rows = warm_rows(n_balls) if spinning else 1
     blocks, tpb, _ = solve_plan(balls, cases)
-    spin_all = put(np.zeros((blocks * tpb, rows, n_balls) if spinning else (1, 1, 1)))  # every ball cold (new_warm)
+    spin_all = put(warm_starts(balls, blocks * tpb))
     outs = _outputs(alloc, cases.results)._replace(q=put(np.ascontiguousarray(cases.results.q)))  # the warm starts
     args = (device_elements(put, balls), _inputs(put, cases, outs), spin_all, settings, bool(warm))
     return blocks, tpb, args, outs
@@ -358,7 +208,7 @@ def solve_sweep_cuda(balls, cases, settings, warm):
     if cases.inputs.shape[0] == 0:
         return
     blocks, tpb, args, outs = _solve_args(cuda.to_device, cuda.device_array, balls, cases, settings, warm)
-    _kernel("solve", _parts(balls))[blocks, tpb](*args)
+    kernel("solve")[blocks, tpb](*args)
     _copy_back(cases.results, outs)
 
 
@@ -372,7 +222,7 @@ def map_sweep_cuda(elements, cases, given_load, settings, stop):
     if cases.segments.shape[0] <= 1 or stop[0] != 0:
         return
     blocks, tpb, args, outs = _map_args(cuda.to_device, cuda.device_array, elements, cases, given_load, settings)
-    _kernel("map", _parts(elements.balls))[blocks, tpb](*args)
+    kernel("map")[blocks, tpb](*args)
     _copy_back(cases.results, outs)
 
 
@@ -393,11 +243,10 @@ def passage_sweep_cuda(elements, positions, cases, given_load, settings, stop):
     outs = _outputs(alloc, cases.results)
     dev_elements = Elements(device_elements(put, elements.balls), put(np.ascontiguousarray(elements.ball_row)),
                             put(np.ascontiguousarray(elements.life)), float(elements.C0))
-    dev_positions = Positions(put(np.ascontiguousarray(positions.tables)), put(_placeholder(positions.slices, 3)),
-                              put(_placeholder(positions.speed_tables, 3)))
+    dev_positions = Positions(put(_part(positions.tables)), put(_part(positions.slices)),
+                              put(_part(positions.speed_tables)))
     rows = thread_rows(put, alloc, shape, blocks * tpb, cases.results.n_loaded.dtype, with_speed)
-    parts = _parts(elements.balls) + (positions.slices is not None, positions.speed_tables is not None)
-    _kernel("passage", parts)[blocks, tpb](dev_elements, dev_positions, _inputs(put, cases, outs), bool(given_load),
+    kernel("passage")[blocks, tpb](dev_elements, dev_positions, _inputs(put, cases, outs), bool(given_load),
                                            settings, rows)
     _copy_back(cases.results, outs)
 
@@ -413,12 +262,9 @@ def compile_ptx(kind: str, example_args: tuple, cc=(9, 0)) -> str:
     _cuda()
     host_put = np.ascontiguousarray
     if kind == "solve":
-        balls = example_args[0]
         args = _solve_args(host_put, np.empty, *example_args)[2]
     else:
-        balls = example_args[0].balls
         args = _map_args(host_put, np.empty, *example_args[:4])[2]
     sig = tuple(numba.typeof(a) for a in args)
-    kernel = _make_solve(*_parts(balls)) if kind == "solve" else _make_map(*_parts(balls))
-    ptx, _ = cuda.compile_ptx(kernel.py_func, sig, cc=cc)
+    ptx, _ = cuda.compile_ptx(kernel(kind).py_func, sig, cc=cc)
     return ptx
