@@ -28,6 +28,7 @@ from collections import Counter
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))  # this tree's fastbearing, whatever else is installed
 STAGES = ("cold", "1M", "speed", "roller", "1e8")
 #: Outcome flips (status & OUTCOME_MASK differing) allowed per case checked: rounding order (FMA on the GPU,
 #: reassociated sums on the CPU) decides exact-threshold tests differently on a few cases (docs/gpu.md).

@@ -35,6 +35,7 @@ from __future__ import annotations
 
 import numpy as np
 
+import hashlib
 from collections import namedtuple
 
 from .contract import ABSENT, CaseBlock, Elements, Positions, ScratchShape, scratch_shape
@@ -85,13 +86,78 @@ def thread_bytes(shape: ScratchShape, with_speed: bool) -> int:
     return 8 * (2 * shape.record + 2 * shape.life_rows + warm + 2 * shape.rows)
 
 
-def thread_rows(put, alloc, shape: ScratchShape, n_threads: int, counts_dtype, with_speed: bool) -> ThreadRows:
-    """The ThreadRows of ``n_threads`` threads (the balls' warm starts zeroed: every ball cold, new_warm)."""
+def thread_rows(mem, shape: ScratchShape, n_threads: int, counts_dtype, with_speed: bool) -> ThreadRows:
+    """The ThreadRows of ``n_threads`` threads in ``mem`` (:class:`DeviceMemory`; the balls' warm starts zeroed:
+    every ball cold, new_warm)."""
     T = n_threads
     spin = np.zeros((T, shape.warm_rows, shape.n_balls) if with_speed else (T, 1, 1))
-    return ThreadRows(alloc((T, shape.record), np.float64), alloc((T, shape.record), np.float64),
-                      alloc((T, shape.life_rows, 2), np.float64), put(spin), alloc((T, shape.rows), np.float64),
-                      alloc((T, shape.rows), counts_dtype))
+    return ThreadRows(mem.buffer("ball_load", (T, shape.record)), mem.buffer("contact_angle", (T, shape.record)),
+                      mem.buffer("sums", (T, shape.life_rows, 2)), mem.data(spin),
+                      mem.buffer("outer_load", (T, shape.rows)), mem.buffer("outer_count", (T, shape.rows),
+                                                                            counts_dtype))
+
+
+class DeviceMemory:
+    """Where a launch's arrays live, kept across blocks (issue 46 item 2): ``table`` uploads a read-only table
+    once per content (the element tables of a job, whichever block asks); ``buffer`` allocates a result or
+    scratch array once per role, shape and dtype and hands the same one to the next block (the kernels write
+    every entry they read back, so nothing is copied there); ``data`` copies a block's own inputs each time.
+    One per process (:func:`device_memory`): at most one buffer per role and :data:`MAX_TABLES` tables."""
+
+    def __init__(self, put, alloc):
+        self.put, self.alloc = put, alloc
+        self.tables, self.buffers = {}, {}
+
+    def table(self, a: np.ndarray):
+        a = np.ascontiguousarray(a)
+        key = (a.shape, a.dtype.str, hashlib.blake2b(a.tobytes(), digest_size=16).digest())
+        if key not in self.tables:
+            if len(self.tables) >= MAX_TABLES:
+                self.tables.pop(next(iter(self.tables)))
+            self.tables[key] = self.put(a)
+        return self.tables[key]
+
+    def buffer(self, role: str, shape, dtype=np.float64):
+        key = (tuple(shape), np.dtype(dtype).str)
+        held = self.buffers.get(role)
+        if held is None or held[0] != key:
+            self.buffers[role] = (key, self.alloc(tuple(shape), np.dtype(dtype)))
+        return self.buffers[role][1]
+
+    def data(self, a: np.ndarray):
+        return self.put(np.ascontiguousarray(a))
+
+
+class HostMemory(DeviceMemory):
+    """The same roles as plain host arrays, nothing kept: what :func:`compile_ptx` types the kernels from."""
+
+    def __init__(self):
+        super().__init__(np.ascontiguousarray, np.empty)
+
+    def table(self, a):
+        return np.ascontiguousarray(a)
+
+    def buffer(self, role, shape, dtype=np.float64):
+        return np.empty(tuple(shape), dtype)
+
+
+#: Most element tables one process keeps on the device (the oldest goes first).
+MAX_TABLES = 64
+_MEMORY = None
+
+
+def device_memory() -> DeviceMemory:
+    """This process's DeviceMemory (numba.cuda's to_device and device_array)."""
+    global _MEMORY
+    if _MEMORY is None:
+        _MEMORY = DeviceMemory(_cuda().to_device, _cuda().device_array)
+    return _MEMORY
+
+
+def release_device_memory() -> None:
+    """Let go of every table and buffer kept on the device (a long-lived process done with GPU work)."""
+    global _MEMORY
+    _MEMORY = None
 
 
 def _launch(n_work: int, per_thread_bytes: int, cap: int = MAX_THREADS) -> tuple[int, int]:
@@ -107,13 +173,19 @@ def _part(a) -> np.ndarray:
     return ABSENT if a is None else np.ascontiguousarray(a)
 
 
-def device_elements(put, balls: ElementSet) -> ElementSet:
-    """The element set as a kernel argument: every part through ``put`` (to the device), contract.ABSENT for a part
-    it lacks and for the warm starts (each thread's are its row of the launch's warm starts); the kernels make
-    those None again (cuda_kernels.element_set)."""
-    return ElementSet(put(_part(balls.balls)), put(_part(balls.exponents)), float(balls.smoothing),
-                      put(_part(balls.slices)), put(_part(balls.speed_table)), float(balls.omega), put(ABSENT),
-                      put(_part(balls.four_point)))
+def device_elements(mem, balls: ElementSet) -> ElementSet:
+    """The element set as a kernel argument: every part a table in ``mem`` (on the device once per job),
+    contract.ABSENT for a part it lacks and for the warm starts (each thread's are its row of the launch's warm
+    starts); the kernels make those None again (cuda_kernels.element_set)."""
+    return ElementSet(mem.table(_part(balls.balls)), mem.table(_part(balls.exponents)), float(balls.smoothing),
+                      mem.table(_part(balls.slices)), mem.table(_part(balls.speed_table)), float(balls.omega),
+                      mem.table(ABSENT), mem.table(_part(balls.four_point)))
+
+
+def device_tables(mem, elements) -> Elements:
+    """contract.Elements with every table in ``mem`` (on the device once per job)."""
+    return Elements(device_elements(mem, elements.balls), mem.table(elements.ball_row), mem.table(elements.life),
+                    float(elements.C0))
 
 
 def warm_starts(balls: ElementSet, n_threads: int) -> np.ndarray:
@@ -125,15 +197,16 @@ def warm_starts(balls: ElementSet, n_threads: int) -> np.ndarray:
     return np.zeros((n_threads, warm_rows(n_balls), n_balls))
 
 
-def _inputs(put, cases: CaseBlock, results):
-    """``cases`` with its inputs, segments and speeds through ``put`` and ``results`` in place of its own."""
-    return CaseBlock(put(np.ascontiguousarray(cases.inputs)), put(np.ascontiguousarray(cases.segments)),
-                     put(np.ascontiguousarray(cases.speeds, dtype=np.float64)), results)
+def _inputs(mem, cases: CaseBlock, results):
+    """``cases`` with its inputs, segments and speeds copied into ``mem`` and ``results`` in place of its own."""
+    return CaseBlock(mem.data(cases.inputs), mem.data(cases.segments), mem.data(np.asarray(cases.speeds, np.float64)),
+                     results)
 
 
-def _outputs(alloc, results):
-    """A results record's device arrays (not copied there: the kernels write every case's)."""
-    return type(results)(*(alloc(a.shape, a.dtype) for a in results))
+def _outputs(mem, results):
+    """A results record's device arrays, kept across blocks (not copied there: the kernels write every case's)."""
+    return type(results)(*(mem.buffer(f"results.{name}", a.shape, a.dtype) for name, a in zip(results._fields,
+                                                                                              results)))
 
 
 #: One launch: thread blocks, threads per block and the device memory it holds (bytes: the element tables, the
@@ -168,27 +241,25 @@ def map_plan(elements, cases) -> LaunchPlan:
     return LaunchPlan(blocks, tpb, nbytes(elements) + nbytes(cases) + blocks * tpb * per_thread)
 
 
-def _solve_args(put, alloc, balls, cases, settings, warm):
-    """(blocks, threads per block, the solve kernel's arguments, the device results); ``put`` copies a host array
-    to the device, ``alloc(shape, dtype)`` allocates there."""
+def _solve_args(mem, balls, cases, settings, warm):
+    """(blocks, threads per block, the solve kernel's arguments, the device results) in ``mem``."""
     blocks, tpb, _ = solve_plan(balls, cases)
-    spin_all = put(warm_starts(balls, blocks * tpb))
-    outs = _outputs(alloc, cases.results)._replace(q=put(np.ascontiguousarray(cases.results.q)))  # the warm starts
-    args = (device_elements(put, balls), _inputs(put, cases, outs), spin_all, settings, bool(warm))
+    spin_all = mem.data(warm_starts(balls, blocks * tpb))
+    outs = _outputs(mem, cases.results)._replace(q=mem.data(cases.results.q))  # the warm starts
+    args = (device_elements(mem, balls), _inputs(mem, cases, outs), spin_all, settings, bool(warm))
     return blocks, tpb, args, outs
 
 
-def _map_args(put, alloc, elements, cases, given_load, settings):
-    """(blocks, threads per block, the map kernel's arguments, the device results): one thread per continuation
-    run, each with its ThreadRows row."""
+def _map_args(mem, elements, cases, given_load, settings):
+    """(blocks, threads per block, the map kernel's arguments, the device results) in ``mem``: one thread per
+    continuation run, each with its ThreadRows row."""
     shape = scratch_shape(elements, cases)
     with_speed = elements.balls.speed_table is not None
     blocks, tpb, _ = map_plan(elements, cases)
-    outs = _outputs(alloc, cases.results)
-    dev_elements = Elements(device_elements(put, elements.balls), put(np.ascontiguousarray(elements.ball_row)),
-                            put(np.ascontiguousarray(elements.life)), float(elements.C0))
-    rows = thread_rows(put, alloc, shape, blocks * tpb, cases.results.n_loaded.dtype, with_speed)
-    args = (dev_elements, _inputs(put, cases, outs), bool(given_load), settings, put(np.zeros(1, np.int64)), rows)
+    outs = _outputs(mem, cases.results)
+    rows = thread_rows(mem, shape, blocks * tpb, cases.results.n_loaded.dtype, with_speed)
+    args = (device_tables(mem, elements), _inputs(mem, cases, outs), bool(given_load), settings,
+            mem.data(np.zeros(1, np.int64)), rows)
     return blocks, tpb, args, outs
 
 
@@ -204,10 +275,10 @@ def solve_sweep_cuda(balls, cases, settings, warm):
     starts there when ``warm``), f, Kb (N/mm, N*mm/rad, N/rad), status, iterations, relative residual and kernel
     evaluations); with a speed table case i runs at ``cases.speeds[i]`` rad/s. CudaUnavailable without a usable
     GPU."""
-    cuda = require_cuda()
+    require_cuda()
     if cases.inputs.shape[0] == 0:
         return
-    blocks, tpb, args, outs = _solve_args(cuda.to_device, cuda.device_array, balls, cases, settings, warm)
+    blocks, tpb, args, outs = _solve_args(device_memory(), balls, cases, settings, warm)
     kernel("solve")[blocks, tpb](*args)
     _copy_back(cases.results, outs)
 
@@ -218,10 +289,10 @@ def map_sweep_cuda(elements, cases, given_load, settings, stop):
     N*mm or displacements in mm, rad; speeds rad/s). ``stop[0] != 0`` before the launch leaves the block
     untouched (incomplete); Ctrl-C during a launch is seen at the next block. CudaUnavailable without a usable
     GPU."""
-    cuda = require_cuda()
+    require_cuda()
     if cases.segments.shape[0] <= 1 or stop[0] != 0:
         return
-    blocks, tpb, args, outs = _map_args(cuda.to_device, cuda.device_array, elements, cases, given_load, settings)
+    blocks, tpb, args, outs = _map_args(device_memory(), elements, cases, given_load, settings)
     kernel("map")[blocks, tpb](*args)
     _copy_back(cases.results, outs)
 
@@ -232,22 +303,20 @@ def passage_sweep_cuda(elements, positions, cases, given_load, settings, stop):
     N, N*mm or displacements in mm, rad), its cage positions in turn. ``stop[0] != 0`` before the launch leaves
     the block untouched (incomplete); Ctrl-C during a launch is seen at the next block. CudaUnavailable without a
     usable GPU."""
-    cuda = require_cuda()
+    require_cuda()
     n = cases.inputs.shape[0]
     if n == 0 or stop[0] != 0:
         return
-    put, alloc = cuda.to_device, cuda.device_array
+    mem = device_memory()
     shape = scratch_shape(elements, cases)
     with_speed = elements.balls.speed_table is not None
     blocks, tpb = _launch(n, thread_bytes(shape, with_speed))
-    outs = _outputs(alloc, cases.results)
-    dev_elements = Elements(device_elements(put, elements.balls), put(np.ascontiguousarray(elements.ball_row)),
-                            put(np.ascontiguousarray(elements.life)), float(elements.C0))
-    dev_positions = Positions(put(_part(positions.tables)), put(_part(positions.slices)),
-                              put(_part(positions.speed_tables)))
-    rows = thread_rows(put, alloc, shape, blocks * tpb, cases.results.n_loaded.dtype, with_speed)
-    kernel("passage")[blocks, tpb](dev_elements, dev_positions, _inputs(put, cases, outs), bool(given_load),
-                                           settings, rows)
+    outs = _outputs(mem, cases.results)
+    dev_positions = Positions(mem.table(_part(positions.tables)), mem.table(_part(positions.slices)),
+                              mem.table(_part(positions.speed_tables)))
+    rows = thread_rows(mem, shape, blocks * tpb, cases.results.n_loaded.dtype, with_speed)
+    kernel("passage")[blocks, tpb](device_tables(mem, elements), dev_positions, _inputs(mem, cases, outs),
+                                   bool(given_load), settings, rows)
     _copy_back(cases.results, outs)
 
 
@@ -260,11 +329,10 @@ def compile_ptx(kind: str, example_args: tuple, cc=(9, 0)) -> str:
     import numba
 
     _cuda()
-    host_put = np.ascontiguousarray
     if kind == "solve":
-        args = _solve_args(host_put, np.empty, *example_args)[2]
+        args = _solve_args(HostMemory(), *example_args)[2]
     else:
-        args = _map_args(host_put, np.empty, *example_args[:4])[2]
+        args = _map_args(HostMemory(), *example_args[:4])[2]
     sig = tuple(numba.typeof(a) for a in args)
     ptx, _ = cuda.compile_ptx(kernel(kind).py_func, sig, cc=cc)
     return ptx
