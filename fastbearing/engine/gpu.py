@@ -263,10 +263,12 @@ def _map_args(mem, elements, cases, given_load, settings):
     return blocks, tpb, args, outs
 
 
-def _copy_back(host, dev) -> None:
-    """Every device array of the results record ``dev`` into its host twin in ``host``."""
-    for h, d in zip(host, dev):
-        d.copy_to_host(h)
+def _copy_back(host, dev, wanted=None) -> None:
+    """Every device array of the results record ``dev`` into its host twin in ``host``; with ``wanted`` (a record
+    of bools of the same fields) only those (the stored variables: issue 46 item 2)."""
+    for i, (h, d) in enumerate(zip(host, dev)):
+        if wanted is None or wanted[i]:
+            d.copy_to_host(h)
 
 
 def solve_sweep_cuda(balls, cases, settings, warm):
@@ -283,18 +285,19 @@ def solve_sweep_cuda(balls, cases, settings, warm):
     _copy_back(cases.results, outs)
 
 
-def map_sweep_cuda(elements, cases, given_load, settings, stop):
+def map_sweep_cuda(elements, cases, given_load, settings, stop, wanted=None):
     """sweep.map_sweep on the GPU, in place, with the same arguments and results (contract.Elements, a
     contract.CaseBlock of contract.Results): one thread per continuation run (``cases.segments``; loads in N,
     N*mm or displacements in mm, rad; speeds rad/s). ``stop[0] != 0`` before the launch leaves the block
-    untouched (incomplete); Ctrl-C during a launch is seen at the next block. CudaUnavailable without a usable
-    GPU."""
+    untouched (incomplete); Ctrl-C during a launch is seen at the next block. ``wanted`` (a contract.Results of
+    bools; None: all) names the outputs copied back; the others stay as they were on the host. CudaUnavailable
+    without a usable GPU."""
     require_cuda()
     if cases.segments.shape[0] <= 1 or stop[0] != 0:
         return
     blocks, tpb, args, outs = _map_args(device_memory(), elements, cases, given_load, settings)
     kernel("map")[blocks, tpb](*args)
-    _copy_back(cases.results, outs)
+    _copy_back(cases.results, outs, wanted)
 
 
 def passage_sweep_cuda(elements, positions, cases, given_load, settings, stop):
