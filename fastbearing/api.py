@@ -25,6 +25,7 @@ from .engine.kernel import ball_loop
 from .config import METHODS, NEWTON
 from . import boundary
 from .engine.solver import WORK_ROWS, SolverSettings, solve_case
+from .engine.contract import CaseBlock, Solutions
 from .engine.sweep import solve_sweep, stiffness_sweep
 from .engine.device import DEVICES
 
@@ -439,15 +440,15 @@ def solve_many(bearing: Bearing, f, q0=None, method: str = "newton", rtol=None, 
         q = np.zeros((n, 5))
     out = SolveManyResult(q, np.empty((n, 5)), np.empty((n, 5, 5)), np.empty(n, np.int8), np.empty(n, np.int32),
                           np.empty(n), np.empty(n, np.int32))
+    solutions = Solutions(out.q, out.f, out.K, out.status, out.iterations, out.residual, out.evaluations)
+    cases = CaseBlock(f_targets, np.zeros(0, np.int64), speeds, solutions)
     if device == "cuda":
         from .engine.gpu import solve_sweep_cuda  # numba.cuda is imported only here
 
-        solve_sweep_cuda(f_targets, out.q, out.f, out.K, out.status, out.iterations, out.residual,
-                         out.evaluations, balls, speeds, opts, warm)
+        solve_sweep_cuda(balls, cases, opts, warm)
         return out
     with num_threads(threads):
-        solve_sweep(f_targets, out.q, out.f, out.K, out.status, out.iterations, out.residual, out.evaluations,
-                    balls, speeds, opts, warm, config.SWEEP_BLOCK)
+        solve_sweep(balls, cases, opts, warm, config.SWEEP_BLOCK)
     return out
 
 

@@ -141,7 +141,8 @@ def compare_maps(only):
         "ball": {"bearing": {"preset": "gunduz2013", "arrangement": "DB"},
                  "loadmap": {"given": "load", "Fx": {"start": -2000.0, "stop": 2000.0, "num": 3}, "Fy": 0.0,
                              "Fz": {"start": 500.0, "stop": 10000.0, "num": 2}, "Mx": 0.0,
-                             "My": {"start": -1e5, "stop": 1e5, "num": 5}}},
+                             "My": {"start": -1e5, "stop": 1e5, "num": 5},
+                             "chunk": 10}},  # 3 blocks: the device's tables and buffers are reused
         "speed_life": str(DATA / "examples" / "spindle-7014-speed.toml"),
     }
     result = {}

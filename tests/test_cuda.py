@@ -195,3 +195,17 @@ def _map_results(bearing, n):
             "iterations": np.empty(n, np.int32), "residual": np.empty(n), "max_ball_load": np.empty((n, rows)),
             "loaded_balls": np.empty((n, rows), np.int16), "min_contact_angle": np.empty((n, rows)),
             "max_contact_angle": np.empty((n, rows))}
+
+
+def test_device_memory_keeps_tables_and_buffers_across_blocks():
+    """Issue 46 item 2: a job's element tables go to the device once (by content, whichever block asks) and the
+    result and scratch buffers are reused while their role, shape and dtype recur (here with host arrays)."""
+    mem = gpu.DeviceMemory(np.array, np.empty)
+    table = np.arange(6.0).reshape(2, 3)
+    assert mem.table(table) is mem.table(table.copy())
+    assert mem.table(table) is not mem.table(table + 1.0)
+    q = mem.buffer("results.q", (4, 5))
+    assert mem.buffer("results.q", (4, 5)) is q
+    assert mem.buffer("results.status", (4,), np.int8).dtype == np.int8
+    assert mem.buffer("results.q", (3, 5)) is not q and len(mem.buffers) == 2  # one buffer per role
+    assert mem.data(table) is not mem.data(table)                              # a block's own inputs: copied

@@ -13,11 +13,12 @@ from numba.core.cpu import CPUContext
 from numba.extending import intrinsic, overload
 
 from ..config import CACHE, ERROR_MODEL, REFCOUNT
-from .kernel import at_position, ball_loop, forget_warm, slice_count, warm_scratch
+from .kernel import at_position, ball_loop, forget_warm, warm_scratch
 from .linalg import stiffness_solve
 from .roots import cube_root
 from .schema import LIFE_CE, LIFE_CI, LIFE_FIRST, LIFE_INNER, LIFE_SLICES, LIFE_X0, LIFE_Y0, LIFE_Z
 from .solver import WORK_ROWS, solve_case, with_warnings
+from .contract import CaseBlock, Elements, Scratch, scratch_shape
 from ..status import BALL_UNSETTLED, CONVERGED, NONFINITE_RESULT, OUTCOME_MASK, UNLOADED
 
 
@@ -72,22 +73,40 @@ def forget_if(warm, fresh):
         forget_warm(warm)
 
 
+# numba's parallel loops take a record argument whole only when it holds no record ("scalar type ... given for non
+# scalar argument" for a nested one, numba 0.68): the drivers below get the records' flat parts and put them
+# together again inside the loop body, where building a record costs nothing.
+
+def solve_sweep(balls, cases, settings, warm, block):
+    """Solve every row of ``cases.inputs`` (N, 5; N, N*mm) into ``cases.results`` (a contract.Solutions); its q
+    holds warm starts when ``warm``; with a spinning ball set, case i runs at ``cases.speeds[i]`` rad/s
+    (:func:`at_speed`). Blocks of ``block`` cases, each with its own scratch."""
+    solve_blocks(balls, tuple(cases[:3]), cases.results, settings, warm, block)
+
+
 @njit(parallel=True, cache=CACHE, error_model=ERROR_MODEL)
-def solve_sweep(f_targets, q, f, K, status, iterations, residual, evaluations, balls, speeds, settings, warm, block):
-    """Solve every row of ``f_targets`` (N, 5); q (N, 5) holds warm starts when ``warm``; with a spinning
-    ball set, case i runs at ``speeds[i]`` rad/s (:func:`at_speed`)."""
-    n = f_targets.shape[0]
+def solve_blocks(balls, arrays, results, settings, warm, block):
+    """:func:`solve_sweep`'s parallel loop over blocks (``arrays``: the CaseBlock's inputs, segments, speeds)."""
+    n = arrays[0].shape[0]
     n_blocks = (n + block - 1) // block
     for b in prange(n_blocks):
+        cases = CaseBlock(arrays[0], arrays[1], arrays[2], results)
         work = np.empty((WORK_ROWS, 5))
         spin = warm_scratch(balls.speed_table)
         for i in range(b * block, min(n, (b + 1) * block)):
-            out = solve_case(f_targets[i], q[i], f[i], K[i], at_speed(balls, speeds, i, spin, True), settings, warm,
-                             work, None, None)
-            status[i] = out.status
-            iterations[i] = out.iterations
-            residual[i] = out.residual
-            evaluations[i] = out.evaluations
+            solve_into(cases, i, at_speed(balls, cases.speeds, i, spin, True), settings, warm, work)
+
+
+@njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
+def solve_into(cases, i, balls, settings, warm, work):
+    """Case i of a batch solved with the element set ``balls``, written into ``cases.results``
+    (contract.Solutions): the CPU's and the GPU's per-case body."""
+    out = cases.results
+    solved = solve_case(cases.inputs[i], out.q[i], out.f[i], out.K[i], balls, settings, warm, work, None, None)
+    out.status[i] = solved.status
+    out.iterations[i] = solved.iterations
+    out.residual[i] = solved.residual
+    out.evaluations[i] = solved.evaluations
 
 
 @njit(parallel=True, cache=CACHE, error_model=ERROR_MODEL)
@@ -247,19 +266,21 @@ MAP_GROUPS = 64
 
 
 @njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
-def operating_point(given_load, inputs, warm, q, f, K, balls, settings, work, ball_load, contact_angle):
+def operating_point(given_load, inputs, warm, q, f, K, balls, settings, scratch):
     """One case of a map or a ball-passage table: solve for q (load given) or substitute q.
 
-    Returns (status, iterations, residual); fills q, f, K and the per-ball record.
+    Returns (status, iterations, residual); fills q, f, K and the per-element record (``scratch``'s
+    ball_load, contact_angle; the solver works in its ``work``).
     A substitution whose f or Kb is not finite gets NONFINITE_RESULT; a finite one carries the kernel's
     warning bits (contact_reversed, beyond_validity) like a solve.
     """
     if given_load:
-        out = solve_case(inputs, q, f, K, balls, settings, warm, work, ball_load, contact_angle)
+        out = solve_case(inputs, q, f, K, balls, settings, warm, scratch.work, scratch.ball_load,
+                         scratch.contact_angle)
         return out.status, out.iterations, out.residual
     for d in range(5):
         q[d] = inputs[d]
-    warnings = ball_loop(q, balls, f, K, ball_load, contact_angle)[2]
+    warnings = ball_loop(q, balls, f, K, scratch.ball_load, scratch.contact_angle)[2]
     status = substitution_status(f, K)
     return (with_warnings(status, warnings) if status == CONVERGED else status), 0, 0.0
 
@@ -387,60 +408,56 @@ def _bend(v, back, w, r, inv_r, inv_r2, cubic):
     return ((3.0 * a + r * b) + (2.0 * a + r * b) * inv_r) * inv_r2
 
 
-@njit(parallel=True, cache=CACHE, error_model=ERROR_MODEL, nogil=True)
-def map_sweep(inputs, given_load, segments, q, f, K, status, iterations, residual, max_load, n_loaded,
-              min_angle, max_angle, outer_angles, balls, speeds, ball_row, settings, stop, life, C0, L10r, L10r_row,
-              safety):
-    """One block of a load or displacement map, in place.
+def map_sweep(elements, cases, given_load, settings, stop):
+    """One block of a load or displacement map, in place: ``cases`` (contract.CaseBlock, its results a
+    contract.Results) of the bearing's ``elements`` (contract.Elements).
 
-    ``balls`` is the bearing's ball set; with a speed table, case i runs at ``speeds[i]`` rad/s
-    (:func:`at_speed`). ``inputs`` (N, 5) are loads (N, N*mm) when ``given_load`` else
-    displacements (mm, rad). ``segments`` (grid.segment_starts) cuts the
-    block into continuation runs along the fastest grid axis: each run
-    starts cold and each later case starts from its neighbour's converged q
-    by the tangent predictor (bent through the one before, :func:`curved_predictor`),
-    falling back to a cold start inside the solver when that fails. ``stop[0] != 0`` (set by Ctrl-C from
-    another thread) ends the sweep at the next case; the block is then incomplete. With a
-    ``life`` table (rows, 8; life.life_table) of more than zero rows, L10r,
-    L10r_row and the static safety (with C0 in N; nan where a case did not
-    converge) are filled too (else they may be (1, ...) arrays, untouched). ``outer_angles`` (smallest,
-    largest loaded outer contact angle per row, rad) are filled in a map at speed (else (1, rows), untouched).
+    With a speed table in ``elements.balls``, case i runs at ``cases.speeds[i]`` rad/s (:func:`at_speed`).
+    ``cases.inputs`` (N, 5) are loads (N, N*mm) when ``given_load`` else displacements (mm, rad).
+    ``cases.segments`` (grid.segment_starts) cuts the block into continuation runs along the fastest grid
+    axis: each run starts cold and each later case starts from its neighbour's converged q by the tangent
+    predictor (bent through the one before, :func:`curved_predictor`), falling back to a cold start inside
+    the solver when that fails. ``stop[0] != 0`` (set by Ctrl-C from another thread) ends the sweep at the
+    next case; the block is then incomplete. With a life table (``elements.life``, rows > 0;
+    life.life_table) L10r, L10r_row and the static safety (with ``elements.C0`` in N; nan where a case did
+    not converge) are filled too (else they may be (1, ...) arrays, untouched). The outer contact angles
+    (smallest, largest loaded outer contact angle per row, rad) are filled in a map at speed (else (1, rows),
+    untouched). The per-thread scratch is sized by contract.scratch_shape, as on the GPU.
     """
-    n_runs = segments.shape[0] - 1
+    map_groups(elements.balls, tuple(elements[1:]), tuple(cases[:3]), cases.results, scratch_shape(elements, cases),
+               given_load, settings, stop)
+
+
+@njit(parallel=True, cache=CACHE, error_model=ERROR_MODEL, nogil=True)
+def map_groups(balls, tables, arrays, results, shape, given_load, settings, stop):
+    """:func:`map_sweep`'s parallel loop: the block's runs shared among MAP_GROUPS groups, each with one
+    Scratch of ``shape`` (contract.ScratchShape). The records come in parts (``tables``: Elements' ball_row,
+    life, C0; ``arrays``: CaseBlock's inputs, segments, speeds)."""
+    n_runs = arrays[1].shape[0] - 1
     groups = min(n_runs, MAP_GROUPS)
-    n_elements = ball_row.shape[0]
-    want_life = life.shape[0] > 0
-    roller_life = want_life and life[0, LIFE_SLICES] > 0.0
-    spinning = speeds.shape[0] > 0
-    # a roller bearing's life needs every slice's load: the record then carries them after the elements;
-    # at speed each ring's own contacts: the outer contacts' loads and angles follow the inner ones
-    n_record = n_elements + (slice_count(balls.slices) if roller_life else 0) + (n_elements if spinning else 0)
-    results = (q, f, K, status, iterations, residual, max_load, n_loaded, min_angle, max_angle, outer_angles[0],
-               outer_angles[1])
-    life_results = (L10r, L10r_row, safety)
     for g in prange(groups):
-        n_rows = max_load.shape[1]
-        scratch = (np.empty((WORK_ROWS, 5)), np.empty((PREDICTOR_ROWS, 5)), np.empty(n_record), np.empty(n_record),
-                   np.empty((max(life.shape[0], 1), 2)), warm_scratch(balls.speed_table), np.empty(n_rows),
-                   np.empty(n_rows, n_loaded.dtype))
-        map_runs(range(g, n_runs, groups), inputs, given_load, segments, results, balls, speeds, ball_row,
-                 settings, stop, life, C0, life_results, scratch)
+        elements = Elements(balls, tables[0], tables[1], tables[2])
+        cases = CaseBlock(arrays[0], arrays[1], arrays[2], results)
+        scratch = new_scratch(shape, balls.speed_table, results.n_loaded)
+        map_runs(range(g, n_runs, groups), elements, cases, given_load, settings, stop, scratch)
+
+
+@njit(inline="always")
+def new_scratch(shape, speed_table, counts):
+    """A CPU thread's contract.Scratch of ``shape`` (the warm starts from ``speed_table``, None without one;
+    the outer counts in ``counts``' dtype)."""
+    return Scratch(np.empty((WORK_ROWS, 5)), np.empty((PREDICTOR_ROWS, 5)), np.empty(shape.record),
+                   np.empty(shape.record), np.empty((shape.life_rows, 2)), warm_scratch(speed_table),
+                   np.empty(shape.rows), np.empty(shape.rows, counts.dtype))
 
 
 @njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
-def map_runs(runs, inputs, given_load, segments, results, balls, speeds, ball_row, settings, stop, life, C0,
-             life_results, scratch):
+def map_runs(runs, elements, cases, given_load, settings, stop, scratch):
     """The continuation runs ``runs`` (a range) of :func:`map_sweep`'s block, one after another, with one
-    group's ``scratch`` (solver work, predictor, the per-ball record's two arrays, life sums, warm starts).
+    thread's ``scratch`` (contract.Scratch): a CPU group's or a GPU thread's.
     Serial and without reference counting: the results' rows are views of arrays both threads write."""
-    q, f, K, status, iterations, residual, max_load, n_loaded, min_angle, max_angle, min_outer, max_outer = results
-    L10r, L10r_row, safety = life_results
-    work, predictor, ball_load, contact_angle, sums, spin, outer_load, outer_count = scratch
-    want_life = life.shape[0] > 0
-    roller_life = want_life and life[0, LIFE_SLICES] > 0.0
-    spinning = speeds.shape[0] > 0
-    spinning_life = want_life and spinning
-    n_elements = ball_row.shape[0]
+    inputs, segments, out = cases.inputs, cases.segments, cases.results
+    predictor = scratch.predictor
     for run in runs:
         if stop_requested(stop):
             break
@@ -448,104 +465,123 @@ def map_runs(runs, inputs, given_load, segments, results, balls, speeds, ball_ro
         for i in range(segments[run], segments[run + 1]):
             if stop_requested(stop):
                 break
-            warm = i > segments[run] and (status[i - 1] & OUTCOME_MASK) == CONVERGED
+            warm = i > segments[run] and (out.status[i - 1] & OUTCOME_MASK) == CONVERGED
             if warm:
                 keep_slope(predictor)  # the previous case's tangent step: the earlier solution's slope
-                took_tangent = tangent_predictor(given_load, inputs[i], q[i - 1], f[i - 1], K[i - 1], q[i],
-                                                 predictor, settings.fixed)
-                if given_load and i - 1 > segments[run] and (status[i - 2] & OUTCOME_MASK) == CONVERGED:
-                    curved_predictor(inputs[i], inputs[i - 1], inputs[i - 2], q[i - 1], q[i - 2], q[i],
+                took_tangent = tangent_predictor(given_load, inputs[i], out.q[i - 1], out.f[i - 1], out.K[i - 1],
+                                                 out.q[i], predictor, settings.fixed)
+                if given_load and i - 1 > segments[run] and (out.status[i - 2] & OUTCOME_MASK) == CONVERGED:
+                    curved_predictor(inputs[i], inputs[i - 1], inputs[i - 2], out.q[i - 1], out.q[i - 2], out.q[i],
                                      predictor[_SLOPE], slope_known)
                 slope_known = took_tangent
             else:
                 slope_known = False
-            status[i], iterations[i], residual[i] = operating_point(
-                given_load, inputs[i], warm, q[i], f[i], K[i], at_speed(balls, speeds, i, spin, not warm), settings,
-                work, ball_load, contact_angle)
-            row_summary(ball_load, contact_angle, ball_row, max_load[i], n_loaded[i], min_angle[i], max_angle[i])
-            if spinning:  # the outer contacts' angles (their loads are the life's)
-                row_summary(ball_load[n_elements:], contact_angle[n_elements:], ball_row, outer_load, outer_count,
-                            min_outer[i], max_outer[i])
-            if not want_life:
-                continue
-            if (status[i] & OUTCOME_MASK) == CONVERGED or (status[i] & OUTCOME_MASK) == UNLOADED:
-                if roller_life:
-                    L10r[i] = roller_case_life(ball_load, n_elements, life, L10r_row[i])
-                elif spinning_life and speeds[i] > 0.0:
-                    L10r[i] = case_life(ball_load, ball_load[n_elements:], ball_row, life, sums, L10r_row[i])
-                else:
-                    L10r[i] = case_life(ball_load, None, ball_row, life, sums, L10r_row[i])
-                # the reached load: with fixed degrees of freedom the inputs hold displacements there
-                safety[i] = static_safety(inputs[i] if given_load and settings.fixed == 0 else f[i], life, C0)
-            else:
-                L10r[i] = np.nan
-                safety[i] = np.nan
-                for r in range(L10r_row.shape[1]):
-                    L10r_row[i, r] = np.nan
-
-
-# inlined into the caller's IR (the None branch pruned while typing): it returns a view, which passage_point
-# (no reference counting) may not receive from a call
-@njit(inline="always")
-def slices_at(slice_tables, p, default=None):
-    """The table at cage position p of a stack, or ``default`` when the stack is None (no roller rows; no
-    per-position speed tables)."""
-    if slice_tables is None:
-        return default
-    return slice_tables[p]
-
-
-@njit(parallel=True, cache=CACHE, error_model=ERROR_MODEL, nogil=True)
-def passage_sweep(inputs, given_load, tables, slice_tables, speed_tables, balls, q, f, K, status, iterations, residual,
-                  max_load, n_loaded, min_angle, max_angle, element_loads, ball_row, settings, stop):
-    """Ball-passage tables, in place: every operating point at every cage position.
-
-    ``tables`` (P, N_BALL_COLUMNS, n_balls) and ``slice_tables`` (P, N_SLICE_COLUMNS, n_slices; None without
-    roller rows) hold the ball and roller-slice tables at each of P cage angles, ``balls`` the bearing's
-    element set at cage angle 0 (its exponents, speed parts and shaft speed), ``speed_tables`` (P, ...) its
-    high-speed tables per position (local defects) or None; outputs are (N, P, ...), ``element_loads`` (N, P,
-    n_elements) each element's load where it has rows (else (0, 0, 0): not stored). Along
-    the positions of one point each solve starts from the previous
-    position's converged q. ``stop[0] != 0`` ends the sweep early, as in map_sweep.
-    """
-    n_points = inputs.shape[0]
-    groups = min(n_points, MAP_GROUPS)
-    n_elements = ball_row.shape[0]
-    results = (q, f, K, status, iterations, residual, max_load, n_loaded, min_angle, max_angle, element_loads)
-    for g in prange(groups):
-        work = np.empty((WORK_ROWS, 5))
-        ball_load = np.empty(n_elements)
-        contact_angle = np.empty(n_elements)
-        spin = warm_scratch(balls.speed_table)
-        for i in range(g, n_points, groups):
-            if stop_requested(stop):
-                break
-            passage_point(i, inputs, given_load, tables, slice_tables, speed_tables, balls, results, ball_row,
-                          settings, work, ball_load, contact_angle, spin)
+            out.status[i], out.iterations[i], out.residual[i] = operating_point(
+                given_load, inputs[i], warm, out.q[i], out.f[i], out.K[i],
+                at_speed(elements.balls, cases.speeds, i, scratch.spin, not warm), settings, scratch)
+            write_case(elements, cases, i, given_load, settings, scratch)
 
 
 @njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
-def passage_point(i, inputs, given_load, tables, slice_tables, speed_tables, balls, results, ball_row, settings,
-                  work, ball_load, contact_angle, spin):
-    """Operating point i of :func:`passage_sweep` at every cage position, in place in ``results`` (q, f, K, status,
-    iterations, residual, max_load, n_loaded, min_angle, max_angle, element_loads; see there), each position
-    starting from the previous one's converged q. The scratch (``work``, the element record ``ball_load`` and
-    ``contact_angle``, the balls' warm starts ``spin``) is the caller's: a CPU thread's or a GPU thread's."""
-    q, f, K, status, iterations, residual, max_load, n_loaded, min_angle, max_angle, element_loads = results
+def write_case(elements, cases, i, given_load, settings, scratch):
+    """Case i's outputs beyond q, f, Kb and the solve's own (contract.Results): the per-row summaries of
+    its element record, at speed the outer contacts' angles, and with a life table L10r, L10r_row and the
+    static safety (nan where the case did not converge). A new per-case output is written here."""
+    out, life, ball_row = cases.results, elements.life, elements.ball_row
     n_elements = ball_row.shape[0]
-    for p in range(tables.shape[0]):
-        warm = p > 0 and (status[i, p - 1] & OUTCOME_MASK) == CONVERGED
+    ball_load, contact_angle = scratch.ball_load, scratch.contact_angle
+    spinning = cases.speeds.shape[0] > 0
+    row_summary(ball_load, contact_angle, ball_row, out.max_load[i], out.n_loaded[i], out.min_angle[i],
+                out.max_angle[i])
+    if spinning:  # the outer contacts' angles (their loads are the life's)
+        row_summary(ball_load[n_elements:], contact_angle[n_elements:], ball_row, scratch.outer_load,
+                    scratch.outer_count, out.min_outer[i], out.max_outer[i])
+    if life.shape[0] == 0:
+        return
+    outcome = out.status[i] & OUTCOME_MASK
+    if outcome == CONVERGED or outcome == UNLOADED:
+        if life[0, LIFE_SLICES] > 0.0:
+            out.L10r[i] = roller_case_life(ball_load, n_elements, life, out.L10r_row[i])
+        elif spinning and cases.speeds[i] > 0.0:
+            out.L10r[i] = case_life(ball_load, ball_load[n_elements:], ball_row, life, scratch.sums, out.L10r_row[i])
+        else:
+            out.L10r[i] = case_life(ball_load, None, ball_row, life, scratch.sums, out.L10r_row[i])
+        # the reached load: with fixed degrees of freedom the inputs hold displacements there
+        load = cases.inputs[i] if given_load and settings.fixed == 0 else out.f[i]
+        out.safety[i] = static_safety(load, life, elements.C0)
+    else:
+        out.L10r[i] = np.nan
+        out.safety[i] = np.nan
+        for r in range(out.L10r_row.shape[1]):
+            out.L10r_row[i, r] = np.nan
+
+
+def slices_at(slice_tables, p, default=None):
+    """The table at cage position p of a stack, or ``default`` when the stack is None (no roller rows; no
+    per-position speed tables). Chosen while typing."""
+
+
+# inlined into the caller's IR: it returns a view, which passage_point (no reference counting) may not receive
+# from a call; an overload, so that a None stack read from a record (contract.Positions) is pruned by its type
+@overload(slices_at, inline="always", jit_options={"_nrt": True})
+def _slices_at(slice_tables, p, default=None):
+    if isinstance(slice_tables, types.NoneType):
+        return lambda slice_tables, p, default=None: default
+    return lambda slice_tables, p, default=None: slice_tables[p]
+
+
+def passage_sweep(elements, positions, cases, given_load, settings, stop):
+    """Ball-passage tables, in place: every operating point of ``cases`` (contract.CaseBlock, its results a
+    contract.PassageResults) at every cage position of ``positions`` (contract.Positions).
+
+    ``positions.tables`` (P, N_BALL_COLUMNS, n_balls) and ``positions.slices`` (P, N_SLICE_COLUMNS, n_slices;
+    None without roller rows) hold the ball and roller-slice tables at each of P cage angles,
+    ``elements.balls`` the bearing's element set at cage angle 0 (its exponents, speed parts and shaft speed),
+    ``positions.speed_tables`` (P, ...) its high-speed tables per position (local defects) or None; outputs
+    are (N, P, ...), ``element_loads`` (N, P, n_elements) each element's load where it has rows (else
+    (0, 0, 0): not stored). Along the positions of one point each solve starts from the previous position's
+    converged q. ``stop[0] != 0`` ends the sweep early, as in map_sweep.
+    """
+    passage_groups(elements.balls, tuple(elements[1:]), positions, tuple(cases[:3]), cases.results,
+                   scratch_shape(elements, cases), given_load, settings, stop)
+
+
+@njit(parallel=True, cache=CACHE, error_model=ERROR_MODEL, nogil=True)
+def passage_groups(balls, tables, positions, arrays, results, shape, given_load, settings, stop):
+    """:func:`passage_sweep`'s parallel loop: the points shared among MAP_GROUPS groups, each with one
+    Scratch of ``shape`` (contract.ScratchShape); the records in parts, as :func:`map_groups`'."""
+    n_points = arrays[0].shape[0]
+    groups = min(n_points, MAP_GROUPS)
+    for g in prange(groups):
+        elements = Elements(balls, tables[0], tables[1], tables[2])
+        cases = CaseBlock(arrays[0], arrays[1], arrays[2], results)
+        scratch = new_scratch(shape, balls.speed_table, results.n_loaded)
+        for i in range(g, n_points, groups):
+            if stop_requested(stop):
+                break
+            passage_point(i, elements, positions, cases, given_load, settings, scratch)
+
+
+@njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
+def passage_point(i, elements, positions, cases, given_load, settings, scratch):
+    """Operating point i of :func:`passage_sweep` at every cage position, in place in ``cases.results``
+    (contract.PassageResults), each position starting from the previous one's converged q. The ``scratch``
+    (contract.Scratch) is the caller's: a CPU thread's or a GPU thread's."""
+    out, balls = cases.results, elements.balls
+    n_elements = elements.ball_row.shape[0]
+    spin = scratch.spin
+    for p in range(positions.tables.shape[0]):
+        warm = p > 0 and (out.status[i, p - 1] & OUTCOME_MASK) == CONVERGED
         forget_if(spin, not warm)
         if warm:
             for d in range(5):
-                q[i, p, d] = q[i, p - 1, d]
-        status[i, p], iterations[i, p], residual[i, p] = operating_point(
-            given_load, inputs[i], warm, q[i, p], f[i, p], K[i, p],
-            at_position(balls, tables[p], slices_at(slice_tables, p), balls.omega, spin,
-                        slices_at(speed_tables, p, balls.speed_table)), settings,
-            work, ball_load, contact_angle)
-        row_summary(ball_load, contact_angle, ball_row, max_load[i, p], n_loaded[i, p], min_angle[i, p],
-                    max_angle[i, p])
-        if element_loads.shape[0] > 0:
+                out.q[i, p, d] = out.q[i, p - 1, d]
+        out.status[i, p], out.iterations[i, p], out.residual[i, p] = operating_point(
+            given_load, cases.inputs[i], warm, out.q[i, p], out.f[i, p], out.K[i, p],
+            at_position(balls, positions.tables[p], slices_at(positions.slices, p), balls.omega, spin,
+                        slices_at(positions.speed_tables, p, balls.speed_table)), settings, scratch)
+        row_summary(scratch.ball_load, scratch.contact_angle, elements.ball_row, out.max_load[i, p],
+                    out.n_loaded[i, p], out.min_angle[i, p], out.max_angle[i, p])
+        if out.element_loads.shape[0] > 0:
             for e in range(n_elements):
-                element_loads[i, p, e] = ball_load[e]
+                out.element_loads[i, p, e] = scratch.ball_load[e]

@@ -29,6 +29,7 @@ from ..dofs import AXES, UNITS
 from .grid import Axis, CaseSet, check_fixed_axes, fixed_mask, input_axes, parse_axis, read_case_file, segment_starts
 from .runner import open_dataset  # noqa: F401 (public: fb.open_dataset)
 from ..analysis.life import LifeSettings, iso_life, life_table, rating_sources, ratings
+from ..engine.contract import CaseBlock, Elements, Results
 from ..engine.sweep import map_sweep
 from ..engine.device import DEVICES, require_cuda
 
@@ -155,7 +156,8 @@ def read_config(config) -> LoadMapConfig:
 
 
 def compute_block(bearing: Bearing, given_load: bool, line_length: int, settings, life, spinning: bool,
-                  inputs: np.ndarray, res: dict, first: int, stop: np.ndarray, device: str = "cpu") -> None:
+                  inputs: np.ndarray, res: dict, first: int, stop: np.ndarray, device: str = "cpu",
+                  stored=None) -> None:
     """Fill the result arrays ``res`` (one block's, see :func:`variables`) for ``inputs`` (n, 5), the
     flat cases from ``first`` on; ``stop[0] != 0`` (Ctrl-C) ends it early, leaving the block incomplete.
 
@@ -164,35 +166,62 @@ def compute_block(bearing: Bearing, given_load: bool, line_length: int, settings
     ``life``: None, or (LifeSettings, BearingRatings) for the life variables. ``spinning``: some case of
     the map runs above 0 rpm (inputs (n, 6), the speed last): every block takes the high-speed ball set
     (one compiled sweep for the map; a case at 0 rpm is the quasi-static model exactly). ``device`` "cuda": the
-    block on the GPU (engine.gpu.map_sweep_cuda: the same kernels, one continuation run per GPU thread).
+    block on the GPU (engine.gpu.map_sweep_cuda: the same kernels and the same records, engine/contract.py), which
+    copies back only the ``stored`` variables (None: all) and what the lives need; the others are left as they
+    were in ``res``.
     """
-    sweep = map_sweep
+    elements, cases = block_records(bearing, line_length, life, spinning, inputs, res, first)
     if device == "cuda":
-        from ..engine.gpu import map_sweep_cuda as sweep  # numba.cuda is imported only here
+        from ..engine.gpu import map_sweep_cuda  # numba.cuda is imported only here
+
+        map_sweep_cuda(elements, cases, given_load, settings, stop, wanted_results(stored, life))
+    else:
+        map_sweep(elements, cases, given_load, settings, stop)
+    if life is not None:
+        _iso_lives(res, life[2], inputs[:, 5] if inputs.shape[1] == 6 else None)
+
+
+def block_records(bearing: Bearing, line_length: int, life, spinning: bool, inputs: np.ndarray, res: dict,
+                  first: int):
+    """(Elements, CaseBlock) of one block (engine/contract.py): the bearing's element set (at speed when
+    ``spinning``), its rows and life table, and the block's inputs (n, 5), continuation segments, speeds
+    (rad/s, from the inputs' sixth column in rpm) and results (:func:`map_results` of ``res``)."""
     balls, speeds = bearing.ball_set(), np.zeros(0)
-    rpm = inputs[:, 5] if inputs.shape[1] == 6 else None
     if inputs.shape[1] == 6:  # the shaft speed (rpm) per case
         if spinning:
             balls, speeds = bearing.ball_set(speed=0.0), inputs[:, 5] * np.pi / 30.0
         inputs = np.ascontiguousarray(inputs[:, :5])
-    ball_row = bearing.element_rows
+    table, C0 = (np.empty((0, 8)), 0.0) if life is None else life[:2]
+    elements = Elements(balls, bearing.element_rows, table, C0)
     segments = segment_starts(first, first + inputs.shape[0], line_length)
-    if life is None:
-        table, C0 = np.empty((0, 8)), 0.0
-        L10r, L10r_row, safety = np.empty(1), np.empty((1, bearing.n_rows)), np.empty(1)
-    else:
-        table, C0, ratings_ = life
-        L10r, L10r_row, safety = res["L10r"], res["L10r_row"], res["static_safety"]
-    if "min_outer_contact_angle" in res:
-        outer = (res["min_outer_contact_angle"], res["max_outer_contact_angle"])
-    else:
-        outer = (np.empty((1, bearing.n_rows)), np.empty((1, bearing.n_rows)))
-    sweep(inputs, given_load, segments, res["q"], res["f"], res["K"], res["status"], res["iterations"],
-              res["residual"], res["max_ball_load"], res["loaded_balls"], res["min_contact_angle"],
-              res["max_contact_angle"], outer, balls, speeds, ball_row, settings, stop, table, C0, L10r, L10r_row,
-              safety)
-    if life is not None:
-        _iso_lives(res, ratings_, rpm)
+    return elements, CaseBlock(inputs, segments, speeds, map_results(res, bearing.n_rows))
+
+
+#: The engine's Results field of each map variable (the file's names are the engineer's, the record's short).
+RESULT_FIELDS = {"q": "q", "f": "f", "K": "K", "status": "status", "iterations": "iterations",
+                 "residual": "residual", "max_ball_load": "max_load", "loaded_balls": "n_loaded",
+                 "min_contact_angle": "min_angle", "max_contact_angle": "max_angle",
+                 "min_outer_contact_angle": "min_outer", "max_outer_contact_angle": "max_outer", "L10r": "L10r",
+                 "L10r_row": "L10r_row", "static_safety": "safety"}
+
+
+def map_results(res: dict, n_rows: int) -> Results:
+    """A block's result arrays (by variable name) as the engine's Results record; an output the map does not
+    keep (life, the outer contact angles) gets a one-case placeholder the sweep leaves untouched."""
+    rows = (1, n_rows)
+    placeholders = {"min_outer": np.empty(rows), "max_outer": np.empty(rows), "L10r": np.empty(1),
+                    "L10r_row": np.empty(rows), "safety": np.empty(1)}
+    fields = {field: res[name] if name in res else placeholders[field] for name, field in RESULT_FIELDS.items()}
+    return Results(**fields)
+
+
+def wanted_results(stored, life) -> Results | None:
+    """Which Results fields a block's caller reads (a Results of bools), for a GPU that copies back only
+    those: the stored variables (None: all), status, and with life the L10r and f the ISO lives are made from."""
+    if stored is None:
+        return None
+    names = set(stored) | {"status"} | ({"L10r", "f"} if life is not None else set())
+    return Results(**{field: name in names for name, field in RESULT_FIELDS.items()})
 
 
 def _iso_lives(res: dict, r, rpm) -> None:
@@ -238,16 +267,17 @@ def job(cfg: LoadMapConfig, device: str = "cpu") -> jobs.Job:
                  "static_load_rating_source": rating_sources(cfg.bearing)["C0"],
                  "row_dynamic_load_rating_N": r.C_row, "contact_rating_inner_N": r.Q_ci,
                  "contact_rating_outer_N": r.Q_ce}
+    stored = jobs.check_stored(cfg.variables, variables, "loadmap.variables")
     return jobs.Job(
         kind="load map", bearing=cfg.bearing, cases=cfg.cases,
         variables=tuple(variables), attrs=attrs,
         sizes={"dof": 5, "dof_col": 5, "row": cfg.bearing.n_rows},
         compute=partial(compute_block, cfg.bearing, given_load, cfg.cases.line_length, settings, life,
-                        cfg.cases.max_speed > 0, device=device),
+                        cfg.cases.max_speed > 0, device=device, stored=stored),
         settings=settings, method=cfg.method, chunk=cfg.chunk, text=cfg.text, source=cfg.source,
         fingerprint=cfg.fingerprint, compression=cfg.compression, line_length=cfg.cases.line_length,
         kernel="engine.gpu.map_sweep_cuda" if device == "cuda" else "engine.sweep.map_sweep",
-        stored=jobs.check_stored(cfg.variables, variables, "loadmap.variables"), dtype=cfg.dtype)
+        stored=stored, dtype=cfg.dtype)
 
 
 def loadmap(config, output=None, *, threads=None, resume=False, overwrite=False, progress=None,

@@ -35,6 +35,7 @@ from ..analysis.faults import fault_orders
 from ..model.bearing import without_mirror_half
 from ..model.defects import (Kinematics, element_depths, parse_defects, table_azimuths, with_ball_defects,
                              with_slice_defects, with_speed_defects)
+from ..engine.contract import CaseBlock, Elements, PassageResults, Positions
 from ..engine.sweep import passage_sweep
 
 _PASSAGE_KEYS = {"defects", "revolutions", "element_loads", "fixed", "given", "points", "positions", "harmonics", "speed", "shaft_speed", "ball_diameter",
@@ -290,10 +291,12 @@ def compute_block(tables: np.ndarray, slice_tables: np.ndarray | None, balls, ba
     sweep = passage_sweep
     if device == "cuda":                          # the same kernels through numba-cuda (engine/gpu.py)
         from ..engine.gpu import passage_sweep_cuda as sweep
-    sweep(inputs, given_load, tables, slice_tables, speed_tables, balls, res["q"], res["f"],
-                  res["K"], res["status"],
-                  res["iterations"], res["residual"], res["max_ball_load"], res["loaded_balls"],
-                  res["min_contact_angle"], res["max_contact_angle"], element_loads, ball_row, settings, stop)
+    results = PassageResults(res["q"], res["f"], res["K"], res["status"], res["iterations"], res["residual"],
+                             res["max_ball_load"], res["loaded_balls"], res["min_contact_angle"],
+                             res["max_contact_angle"], element_loads)
+    elements = Elements(balls, ball_row, np.empty((0, 8)), 0.0)
+    cases = CaseBlock(inputs, np.zeros(0, np.int64), np.zeros(0), results)
+    sweep(elements, Positions(tables, slice_tables, speed_tables), cases, given_load, settings, stop)
     if stop[0] != 0:
         return  # incomplete: the runner discards the block
     for name, values in variation_summary(res["K"]).items():
