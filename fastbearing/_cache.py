@@ -57,8 +57,10 @@ def _package_imports(name: str, text: str) -> set[str]:
 
 
 def source_hash() -> str:
-    """SHA-256 of the kernel modules' names and sources (:func:`kernel_modules`)."""
+    """SHA-256 of the kernel modules' names and sources (:func:`kernel_modules`) and of how their machine
+    code is linked (:data:`LINKING`)."""
     h = hashlib.sha256()
+    h.update(LINKING.encode())
     for name in kernel_modules():
         h.update(name.encode())
         h.update((_PACKAGE / name).read_bytes())
@@ -81,6 +83,59 @@ def cache_folder() -> Path:
     except Exception:  # a numba without these internals: the default location
         pass
     return _PACKAGE / "engine" / "__pycache__"
+
+
+#: How the package's machine code is linked (:func:`self_contained_linking`); part of the stamp, so that a
+#: cache built the other way is dropped.
+LINKING = "self-contained 1"
+#: What the package's functions' mangled names contain (numba mangles the module path into them).
+_MANGLED = "11fastbearing"
+_linking_installed = False
+
+
+def self_contained_linking() -> bool:
+    """Make every compiled library holding the package's code call only its own copies of its callees, so
+    that a result is bit-for-bit the same whether the kernels were compiled in this process or loaded from
+    numba's cache, and whatever ran before in the process (issue 45, item 4).
+
+    numba links each callee's optimised module into every caller's module as ``linkonce_odr`` (weak)
+    functions and optimises the whole again there (codegen.CPUCodeLibrary.finalize). The JIT resolves a
+    weak symbol to the first definition it loaded, so which copy of a callee a caller runs depended on the
+    load order: in a process that compiles, the callee's own library (loaded first, optimised once); in a
+    process that loads from the cache, the outermost caller's copy (optimised again inside it). With the
+    kernels' reassociation and FMA contraction (config.KERNEL_FASTMATH) the copies differ in the last bits,
+    and the solver carried that to about 1e-11 of K. Made internal before the module is optimised, the
+    linked-in copies are private to the library that holds them: its object code, cached or not, is what runs.
+
+    Only libraries that hold the package's functions change; other numba code in the process links as
+    before. Returns whether the hook is in place (False: a numba without this internal, which
+    tests/test_layers.py reports).
+    """
+    global _linking_installed
+    if _linking_installed:
+        return True
+    try:
+        from llvmlite import binding as ll
+        from numba.core import codegen
+
+        library = codegen.CPUCodeLibrary
+        optimise = library._optimize_final_module
+    except (ImportError, AttributeError):
+        return False
+
+    def _optimize_final_module(self):
+        module = self._final_module
+        defined = [fn for fn in module.functions if not fn.is_declaration]
+        if any(_MANGLED in fn.name for fn in defined):
+            for fn in defined:
+                if fn.linkage == ll.Linkage.linkonce_odr:
+                    fn.linkage = "internal"
+        return optimise(self)
+
+    _optimize_final_module.__wrapped__ = optimise
+    library._optimize_final_module = _optimize_final_module
+    _linking_installed = True
+    return True
 
 
 def ensure_fresh() -> None:
