@@ -159,20 +159,31 @@ def ensure_fresh() -> None:
 
 #: What a run that starts compiling says, once per process (the estimate: bench/README.md, compile times).
 COMPILE_NOTICE = ("fastbearing: compiling the kernels for this kind of run (one time: about 15-60 s on 2 cores; "
-                  "later runs load them from numba's cache)")
+                  "later runs load them from numba's cache; `fastbearing warmup` compiles them all ahead)")
+#: While a compilation lasts, a progress line every this many seconds (the first one after PROGRESS_FIRST s):
+#: a wait of more than 2 s is never silent (issue 45).
+PROGRESS_FIRST = 2.0
+PROGRESS_EVERY = 10.0
 _told = False
+_ticking = False
 
 
 class CompileWatch:
     """While active, notices numba compiling (its compile events): the first compilation in the process says
-    so on stderr before the wait (``notice``: the line; None: say nothing), and ``seconds`` sums the time spent
-    compiling (outermost compilations only), so that a summary can report it apart from the work."""
+    so on stderr before the wait (``notice``: the line; None: say nothing), a compilation that lasts says how
+    far it is every PROGRESS_EVERY s (elapsed time, functions compiled, the one under way; only with a
+    notice), and ``seconds`` sums the time spent compiling (outermost compilations only), so that a summary
+    can report it apart from the work."""
 
     def __init__(self, notice: str | None = COMPILE_NOTICE):
         self.notice = notice
         self.seconds = 0.0
+        self.compiled = 0
         self._depth = 0
         self._started = 0.0
+        self._current = ""
+        self._ticker = None
+        self._stop = None
 
     def __enter__(self) -> "CompileWatch":
         from numba.core import event
@@ -181,7 +192,7 @@ class CompileWatch:
 
         class _Listener(event.Listener):
             def on_start(self, ev):
-                watch._start()
+                watch._start(ev)
 
             def on_end(self, ev):
                 watch._end()
@@ -193,18 +204,30 @@ class CompileWatch:
     def __exit__(self, *exc) -> None:
         from numba.core import event
 
+        global _ticking
         event.unregister("numba:compile", self._listener)
+        if self._stop is not None:
+            self._stop.set()
+            self._ticker.join()
+            _ticking = False
 
-    def _start(self) -> None:
+    def _start(self, ev=None) -> None:
         import sys
         import time
 
         global _told
+        self.compiled += 1
+        try:
+            self._current = ev.data["dispatcher"].py_func.__qualname__
+        except Exception:  # an event without a dispatcher (numba's own): keep the last name
+            pass
         if self._depth == 0:
             self._started = time.perf_counter()
             if self.notice and not _told:
                 _told = True
                 print(self.notice, file=sys.stderr, flush=True)
+            if self.notice and self._ticker is None and not _ticking:
+                self._start_ticker()  # one progress line at a time: a command's watch holds a job's
         self._depth += 1
 
     def _end(self) -> None:
@@ -213,3 +236,31 @@ class CompileWatch:
         self._depth -= 1
         if self._depth == 0:
             self.seconds += time.perf_counter() - self._started
+
+    def _start_ticker(self) -> None:
+        """A daemon thread that says how far compiling is while it lasts (numba's compiler releases the GIL
+        often enough for it to run; a blocked thread only delays a line)."""
+        import sys
+        import threading
+        import time
+
+        global _ticking
+        _ticking = True
+        self._stop = threading.Event()
+
+        def tick():
+            said_at = None
+            while not self._stop.wait(0.5):
+                if self._depth <= 0:
+                    said_at = None
+                    continue
+                now = time.perf_counter()
+                elapsed = now - self._started
+                due = PROGRESS_FIRST if said_at is None else PROGRESS_EVERY
+                if now - (said_at or self._started) >= due:
+                    said_at = now
+                    print(f"fastbearing: compiling, {self.seconds + elapsed:.0f} s so far ({self.compiled} functions; "
+                          f"now {self._current})", file=sys.stderr, flush=True)
+
+        self._ticker = threading.Thread(target=tick, name="fastbearing-compile-progress", daemon=True)
+        self._ticker.start()
