@@ -87,7 +87,7 @@ def cache_folder() -> Path:
 
 #: How the package's machine code is linked (:func:`self_contained_linking`); part of the stamp, so that a
 #: cache built the other way is dropped.
-LINKING = "self-contained 1"
+LINKING = "self-contained 2"
 #: What the package's functions' mangled names contain (numba mangles the module path into them).
 _MANGLED = "11fastbearing"
 _linking_installed = False
@@ -100,16 +100,21 @@ def self_contained_linking() -> bool:
 
     numba links each callee's optimised module into every caller's module as ``linkonce_odr`` (weak)
     functions and optimises the whole again there (codegen.CPUCodeLibrary.finalize). The JIT resolves a
-    weak symbol to the first definition it loaded, so which copy of a callee a caller runs depended on the
+    weak symbol to the first definition it loaded, so which copy of a callee a caller ran depended on the
     load order: in a process that compiles, the callee's own library (loaded first, optimised once); in a
     process that loads from the cache, the outermost caller's copy (optimised again inside it). With the
     kernels' reassociation and FMA contraction (config.KERNEL_FASTMATH) the copies differ in the last bits,
-    and the solver carried that to about 1e-11 of K. Made internal before the module is optimised, the
-    linked-in copies are private to the library that holds them: its object code, cached or not, is what runs.
+    and the solver carried that to about 1e-11 of K.
+
+    Here the linked-in copies are made internal for the machine code only: after the module is optimised
+    (as before: linkonce_odr, so LLVM inlines and compiles exactly as much as it did; made internal before
+    the optimisation, the first solve's compile took 65 % longer) and back to linkonce_odr once the object
+    code is emitted (the module that later callers link in is numba's usual one). The object code, cached
+    or not, then calls only its own copies.
 
     Only libraries that hold the package's functions change; other numba code in the process links as
-    before. Returns whether the hook is in place (False: a numba without this internal, which
-    tests/test_layers.py reports).
+    before. Returns whether the hook is in place (False: a numba without these internals, which
+    tests/test_compiled_or_cached.py reports).
     """
     global _linking_installed
     if _linking_installed:
@@ -119,21 +124,26 @@ def self_contained_linking() -> bool:
         from numba.core import codegen
 
         library = codegen.CPUCodeLibrary
-        optimise = library._optimize_final_module
+        finalize_module = library._finalize_final_module
     except (ImportError, AttributeError):
         return False
 
-    def _optimize_final_module(self):
+    def _finalize_final_module(self):
         module = self._final_module
         defined = [fn for fn in module.functions if not fn.is_declaration]
+        private = []
         if any(_MANGLED in fn.name for fn in defined):
-            for fn in defined:
-                if fn.linkage == ll.Linkage.linkonce_odr:
-                    fn.linkage = "internal"
-        return optimise(self)
+            private = [fn for fn in defined if fn.linkage == ll.Linkage.linkonce_odr]
+        for fn in private:
+            fn.linkage = "internal"
+        try:
+            return finalize_module(self)  # adds the module to the JIT and emits its object code
+        finally:
+            for fn in private:
+                fn.linkage = "linkonce_odr"
 
-    _optimize_final_module.__wrapped__ = optimise
-    library._optimize_final_module = _optimize_final_module
+    _finalize_final_module.__wrapped__ = finalize_module
+    library._finalize_final_module = _finalize_final_module
     _linking_installed = True
     return True
 

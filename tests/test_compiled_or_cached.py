@@ -47,14 +47,14 @@ def test_a_map_at_speed_with_life_is_the_same_compiled_or_cached(tmp_path):
 
 def test_the_linking_hook_is_in_place(monkeypatch):
     """Fails loudly when numba renames or drops the internal the hook wraps (codegen.CPUCodeLibrary.
-    _optimize_final_module), instead of silently losing item 4."""
+    _finalize_final_module), instead of silently losing item 4."""
     importlib.import_module("fastbearing.engine.kernel")  # looks up config.CACHE: installs the hook
     from numba.core import codegen
 
     from fastbearing import _cache
 
     assert _cache.self_contained_linking()
-    assert hasattr(codegen.CPUCodeLibrary._optimize_final_module, "__wrapped__")
+    assert hasattr(codegen.CPUCodeLibrary._finalize_final_module, "__wrapped__")
     before = _cache.source_hash()
     monkeypatch.setattr(_cache, "LINKING", "linked another way")
     assert _cache.source_hash() != before  # a cache linked the other way is dropped (the stamp differs)
