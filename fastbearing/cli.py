@@ -918,7 +918,7 @@ def main(argv=None) -> int:
         from ._cache import COMPILE_NOTICE, CompileWatch
 
         # a command that starts compiling says so before the wait, whatever it runs; a unit warning is one line
-        notice = "fastbearing: compiling the kernels into numba's cache" if args.command == "warmup" else COMPILE_NOTICE
+        notice = None if args.command == "warmup" else COMPILE_NOTICE  # the warm-up says its own
         with CompileWatch(notice), warnings.catch_warnings():
             warnings.showwarning = _show_warning
             return {"solve": _solve, "bearing": _bearing_command, "loadmap": _loadmap, "passage": _passage,

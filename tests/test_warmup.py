@@ -43,6 +43,8 @@ def test_after_warmup_the_first_solve_compiles_nothing(tmp_path):
     assert warm.returncode == 0, warm.stderr
     assert "kernel family 1 of 1: quasi-static" in warm.stderr and "s elapsed" in warm.stderr
     assert "quasi-static compiled in" in warm.stderr
+    assert "fastbearing: compiling the kernels into numba's cache" in warm.stderr  # said once, when numba starts
+    assert warm.stderr.count("compiling the kernels") == 1
     first = _run(SOLVE, env, COUNT_COMPILES)
     assert first.returncode == 0, first.stderr
     assert "compilations: 0" in first.stderr and "compiling" not in first.stderr

@@ -144,6 +144,9 @@ def _shafts(folder: Path) -> None:
     shaft_life(spindle, result, LifeSettings(speed=_SPINDLE_SPEED, balls_at_speed=True))
 
 
+#: What a warm-up says when numba starts compiling (then, while it lasts, how far it is: _cache.CompileWatch).
+WARMUP_NOTICE = "fastbearing: compiling the kernels into numba's cache"
+
 #: The kernel families, in the order a warm-up compiles them: name -> (what it covers, the function).
 FAMILIES = {
     "quasi-static": ("ball bearings at rest: solve, Kb at a displacement, each ball's contact", _quasi_static),
@@ -195,7 +198,7 @@ def warmup(kinds=None, *, say=None) -> dict:
     seconds = {}
     started = time.perf_counter()
     try:
-        with tempfile.TemporaryDirectory(prefix="fastbearing-warmup-") as tmp, CompileWatch(notice=None):
+        with tempfile.TemporaryDirectory(prefix="fastbearing-warmup-") as tmp, CompileWatch(WARMUP_NOTICE):
             for i, name in enumerate(names, 1):
                 what = FAMILIES[name][0]
                 say(f"fastbearing warmup: kernel family {i} of {len(names)}: {name} ({what}); "
