@@ -113,3 +113,60 @@ def test_a_long_compilation_says_how_far_it_is(monkeypatch, capsys):
     err = capsys.readouterr().err
     assert err.startswith("fastbearing: compiling the kernels")
     assert "fastbearing: compiling, " in err and "s so far" in err and "slow_to_compile" in err
+
+
+#: A Dask run of the README's main job's kind (the 1M example's config on a small grid) on one local worker
+#: process, counting numba's compilations inside the worker.
+DASK_MAP = textwrap.dedent("""
+    import sys
+    import fastbearing as fb
+    from fastbearing.jobs.distributed import client_for
+
+    def count_compiles():
+        from numba.core import event
+
+        class Count(event.Listener):
+            def on_start(self, ev):
+                event.fastbearing_test_compiles += 1
+
+            def on_end(self, ev):
+                pass
+
+        event.fastbearing_test_compiles = 0
+        event.register("numba:compile", Count())
+
+    def compiles():
+        from numba.core import event
+
+        return event.fastbearing_test_compiles
+
+    if __name__ == "__main__":
+        client, cluster = client_for("local:1")
+        try:
+            client.run(count_compiles)
+            config = {"bearing": {"preset": "gunduz2013", "arrangement": "DB"},
+                      "loadmap": {"given": "load", "Fx": {"start": -2000.0, "stop": 2000.0, "num": 4}, "Fy": 0.0,
+                                  "Fz": {"start": 500.0, "stop": 10000.0, "num": 3}, "Mx": 0.0,
+                                  "My": {"start": -1.0e5, "stop": 1.0e5, "num": 5}, "chunk": 65536,
+                                  "compression": "none"}}
+            fb.loadmap(config, sys.argv[1], client=client, progress=False)
+            print("worker compilations:", sum(client.run(compiles).values()), file=sys.stderr)
+        finally:
+            client.close()
+            cluster.close()
+""")
+
+
+def test_dask_workers_on_a_warmed_cache_compile_nothing(tmp_path):
+    """The workers of a cluster whose cache a warm-up built (an image, a node) load the kernels: a map
+    through a LocalCluster compiles nothing in its worker (numba's compile events counted there)."""
+    pytest.importorskip("distributed")
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache")}
+    warm = _run(["warmup", "--kinds", "maps"], env)
+    assert warm.returncode == 0, warm.stderr
+    script = tmp_path / "dask_map.py"
+    script.write_text(DASK_MAP)
+    run = subprocess.run([sys.executable, str(script), str(tmp_path / "map.h5")], env=env, capture_output=True,
+                         text=True, timeout=900, cwd=tmp_path)
+    assert run.returncode == 0, run.stderr
+    assert "worker compilations: 0" in run.stderr, run.stderr[-2000:]
