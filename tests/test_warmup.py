@@ -170,3 +170,20 @@ def test_dask_workers_on_a_warmed_cache_compile_nothing(tmp_path):
                          text=True, timeout=900, cwd=tmp_path)
     assert run.returncode == 0, run.stderr
     assert "worker compilations: 0" in run.stderr, run.stderr[-2000:]
+
+
+def test_a_portable_level_the_host_cannot_run_is_refused_before_anything_runs(monkeypatch, tmp_path, capsys):
+    """The warm-up runs what it compiles: x86-64-v4 code on a machine without AVX-512 would die of an illegal
+    instruction, so the level's features are checked first (here faked: a host without avx512f)."""
+    from fastbearing import cli
+    from fastbearing.jobs import warmup
+
+    v3_only = set(warmup.LEVELS["x86-64-v3"])
+    monkeypatch.setattr(warmup, "host_features", lambda: v3_only)
+    monkeypatch.setattr(warmup.subprocess, "run", lambda *a, **k: pytest.fail("nothing may run"))
+    assert cli.main(["warmup", "--portable", "x86-64-v4", "--into", str(tmp_path / "v4")]) == 2
+    err = capsys.readouterr().err
+    assert "this machine lacks avx512bw, avx512cd, avx512dq, avx512f, avx512vl" in err
+    assert not (tmp_path / "v4").exists()
+    assert cli.main(["warmup", "--portable", "pentium4", "--into", str(tmp_path / "p4")]) == 2
+    assert "one of x86-64-v2, x86-64-v3, x86-64-v4" in capsys.readouterr().err

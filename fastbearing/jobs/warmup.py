@@ -217,11 +217,31 @@ def warmup(kinds=None, *, say=None) -> dict:
     return {**seconds, "compiled": counted[0]}
 
 
+#: The x86-64 micro-architecture levels (psABI) a portable cache is built for, with the CPU features each
+#: needs (llvmlite's names): the warm-up runs the code it compiles, so a host without them is refused
+#: before anything runs (an illegal instruction otherwise).
+_V2 = ("cx16", "popcnt", "sse3", "sse4.1", "sse4.2", "ssse3")
+_V3 = _V2 + ("avx", "avx2", "bmi", "bmi2", "f16c", "fma", "lzcnt", "movbe", "xsave")
+LEVELS = {"x86-64-v2": _V2, "x86-64-v3": _V3,
+          "x86-64-v4": _V3 + ("avx512f", "avx512bw", "avx512cd", "avx512dq", "avx512vl")}
+
+
+def host_features() -> set[str]:
+    """The CPU features of this machine, as LLVM names them (empty where llvmlite cannot tell)."""
+    try:
+        from llvmlite import binding as ll
+
+        return {name for name, on in ll.get_host_cpu_features().items() if on}
+    except Exception:  # not x86, or an llvmlite without it
+        return set()
+
+
 def portable_environment(level: str, into) -> dict:
     """The environment of a process that compiles for (or runs from) a cache of the CPU level ``level``
-    (an LLVM CPU name such as ``x86-64-v3``: AVX2, FMA; ``x86-64-v4``: AVX-512) in the folder ``into``."""
-    if not level or any(c.isspace() for c in level):
-        raise ValueError(f"--portable: a CPU level such as x86-64-v3 or x86-64-v4, not {level!r}")
+    (``x86-64-v3``: AVX2, FMA; ``x86-64-v4``: AVX-512; see :data:`LEVELS`) in the folder ``into``.
+    ValueError for an unknown level."""
+    if level not in LEVELS:
+        raise ValueError(f"--portable: a CPU level, one of {', '.join(LEVELS)}; not {level!r}")
     return {**os.environ, "NUMBA_CPU_NAME": level, "NUMBA_CPU_FEATURES": "",
             "NUMBA_CACHE_DIR": str(Path(into).resolve())}
 
@@ -229,10 +249,16 @@ def portable_environment(level: str, into) -> dict:
 def warmup_portable(level: str, into, kinds=None) -> int:
     """Build the cache of ``kinds`` for the CPU level ``level`` in the folder ``into``: a fresh process
     (numba reads NUMBA_CPU_NAME when it starts) runs :func:`warmup`. Its progress goes to stderr; returns
-    its exit status."""
+    its exit status. ValueError when this machine lacks a feature of the level (checked before anything
+    runs)."""
     check_kinds(kinds)
+    env = portable_environment(level, into)
+    missing = sorted(set(LEVELS[level]) - host_features())
+    if missing:
+        raise ValueError(f"--portable {level}: this machine lacks {', '.join(missing)}, so it cannot run the code it "
+                         "would compile (the warm-up runs it); build that level's cache on a machine that has them")
     Path(into).mkdir(parents=True, exist_ok=True)
     code = ("import sys; from fastbearing.jobs.warmup import warmup; "
             "warmup(sys.argv[1].split(',') if sys.argv[1] else None)")
     return subprocess.run([sys.executable, "-c", code, ",".join(kinds or ())],
-                          env=portable_environment(level, into)).returncode
+                          env=env).returncode
