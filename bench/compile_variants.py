@@ -8,12 +8,18 @@ files) and their size. The steps, in order:
 1. the first quasi-static solve (the paper's DB bearing, one load);
 2. the first solve at speed (the shipped 7014C-DB spindle pair, 12 000 rpm);
 3. the first load map of the shipped 1M example (its config, on a 3 x 3 x 3 grid: the same kernels);
-4. the first roller solve (the shipped 30206 TDO pair).
+4. the first roller solve (the shipped 30206 TDO pair);
+5. the first ball-passage table (the shipped gunduz2013-passage example, 16 positions).
 
-    python bench/compile_variants.py
+Each step's CPU time (user + system of its process) is printed beside the wall time: on a shared machine it
+is the steadier figure (numba compiles on one thread). ``--warmup`` runs ``fastbearing warmup`` first (its
+time printed on a line of its own): the steps after it should compile nothing (issue 45).
+
+    python bench/compile_variants.py [--warmup]
 """
 
 import os
+import resource
 import subprocess
 import sys
 import tempfile
@@ -38,22 +44,39 @@ STEPS = {
     "first roller solve": (
         f"import fastbearing as fb; b = fb.load_bearing({str(ROOT / 'fastbearing/catalogue/30206-TDO.toml')!r}); "
         "assert fb.solve(b, [3000.0, 0, 1000.0, 0, 0]).converged"),
+    "first passage table": (
+        "import tomllib, tempfile, pathlib, fastbearing as fb; "
+        f"doc = tomllib.loads(pathlib.Path({str(ROOT / 'data/examples/gunduz2013-passage.toml')!r}).read_text()); "
+        "doc['passage']['positions'] = 16; doc['passage']['harmonics'] = 4; "
+        "d = tempfile.mkdtemp(); fb.passage(doc, pathlib.Path(d) / 'p.h5', progress=False)"),
 }
+
+
+def _children_cpu() -> float:
+    usage = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return usage.ru_utime + usage.ru_stime
 
 
 def main() -> None:
     cache = Path(tempfile.mkdtemp(prefix="numba-cache-"))
     env = {**os.environ, "NUMBA_CACHE_DIR": str(cache)}
-    total = 0.0
+    if "--warmup" in sys.argv[1:]:
+        t, cpu = time.perf_counter(), _children_cpu()
+        subprocess.run([sys.executable, "-m", "fastbearing.cli", "warmup"], env=env, check=True, timeout=3600)
+        print(f"{'fastbearing warmup':45s} {time.perf_counter() - t:6.1f} s   CPU {_children_cpu() - cpu:6.1f} s   "
+              f"cached variants: {len(list(cache.rglob('*.nbc')))}")
+    total = total_cpu = 0.0
     for name, code in STEPS.items():
-        t = time.perf_counter()
+        t, cpu = time.perf_counter(), _children_cpu()
         subprocess.run([sys.executable, "-c", code], env=env, check=True, timeout=900)
-        dt = time.perf_counter() - t
+        dt, dcpu = time.perf_counter() - t, _children_cpu() - cpu
         total += dt
+        total_cpu += dcpu
         variants = list(cache.rglob("*.nbc"))
-        print(f"{name:45s} {dt:6.1f} s   cached variants so far: {len(variants)}")
+        print(f"{name:45s} {dt:6.1f} s   CPU {dcpu:6.1f} s   cached variants so far: {len(variants)}")
     size = sum(p.stat().st_size for p in cache.rglob("*.nb[ci]"))
-    print(f"{'all four':45s} {total:6.1f} s   {len(list(cache.rglob('*.nbc')))} variants, {size / 1e6:.1f} MB")
+    print(f"{'all steps':45s} {total:6.1f} s   CPU {total_cpu:6.1f} s   {len(list(cache.rglob('*.nbc')))} variants, "
+          f"{size / 1e6:.1f} MB")
 
 
 if __name__ == "__main__":

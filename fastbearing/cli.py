@@ -245,6 +245,19 @@ def build_parser() -> argparse.ArgumentParser:
     ex.add_argument("--name", default="KBRG", help="DMIG matrix name (default KBRG)")
     ex.add_argument("--node", type=int, default=0, metavar="N", help="ROSS: shaft node of the bearing")
     ex.add_argument("--overwrite", action="store_true", help="replace an existing output file")
+    w = sub.add_parser("warmup", help="compile the kernels now, so that later commands load them from the cache",
+                       description=(
+                           "Compile every kernel family the command line and the API reach (or those of --kinds) "
+                           "into numba's cache, on tiny inputs built into the package, showing each family and "
+                           "the time elapsed; later commands and Dask workers on this machine (or image) then "
+                           "load instead of compiling. --portable LEVEL --into DIR builds the cache for a CPU "
+                           "level (e.g. x86-64-v3) in DIR, for processes run with NUMBA_CPU_NAME=LEVEL, "
+                           "NUMBA_CPU_FEATURES= and NUMBA_CACHE_DIR=DIR. Units: N, mm, rad."))
+    w.add_argument("--kinds", metavar="FAMILY,...", default=None, help="only these kernel families (comma-separated; "
+                   "default all): quasi-static, speed, four-point, roller, life, batches, maps, passage, shafts")
+    w.add_argument("--portable", metavar="LEVEL", default=None, help="compile for this CPU level (an LLVM CPU name: "
+                   "x86-64-v3 needs AVX2 and FMA, x86-64-v4 AVX-512) instead of this machine's CPU; needs --into")
+    w.add_argument("--into", metavar="DIR", default=None, help="with --portable: the cache folder to build")
     return parser
 
 
@@ -609,6 +622,18 @@ def _export(args) -> int:
     return 0
 
 
+def _warmup(args) -> int:
+    from .jobs.warmup import check_kinds, warmup, warmup_portable
+
+    kinds = check_kinds(_names(args.kinds)) if args.kinds else None
+    if (args.portable is None) != (args.into is None):
+        raise ValueError("--portable LEVEL and --into DIR go together")
+    if args.portable is not None:
+        return warmup_portable(args.portable, args.into, kinds)
+    warmup(kinds)
+    return 0
+
+
 def _loadmap(args) -> int:
     from .jobs.loadmap import loadmap
 
@@ -890,14 +915,15 @@ def main(argv=None) -> int:
         args = parser.parse_args(argv)
         if args.command is None:
             raise _UsageError("fastbearing: give a command: " + ", ".join(sorted(_COMMANDS)))
-        from ._cache import CompileWatch
+        from ._cache import COMPILE_NOTICE, CompileWatch
 
         # a command that starts compiling says so before the wait, whatever it runs; a unit warning is one line
-        with CompileWatch(), warnings.catch_warnings():
+        notice = None if args.command == "warmup" else COMPILE_NOTICE  # the warm-up says its own
+        with CompileWatch(notice), warnings.catch_warnings():
             warnings.showwarning = _show_warning
             return {"solve": _solve, "bearing": _bearing_command, "loadmap": _loadmap, "passage": _passage,
                     "plot": _plot, "paper": _paper, "shaft": _shaft, "export": _export,
-                    "bearings": _bearings}[args.command](args)
+                    "bearings": _bearings, "warmup": _warmup}[args.command](args)
     except DiskFull as err:
         print(str(err), file=sys.stderr)
         return 1
@@ -924,11 +950,11 @@ def main(argv=None) -> int:
         return EXIT_USAGE
 
 
-_COMMANDS = ("solve", "bearing", "bearings", "loadmap", "passage", "plot", "paper", "shaft", "export")
+_COMMANDS = ("solve", "bearing", "bearings", "loadmap", "passage", "plot", "paper", "shaft", "export", "warmup")
 
 
 #: The commands that run kernels (and so start numba's compiler contexts).
-_KERNEL_COMMANDS = ("solve", "loadmap", "passage", "plot", "paper", "shaft")
+_KERNEL_COMMANDS = ("solve", "loadmap", "passage", "plot", "paper", "shaft", "warmup")
 
 
 def start_numba_without_blas() -> None:

@@ -29,8 +29,9 @@ def __getattr__(name):
     # before the first cached kernel can load. Modules without kernels (the command line's parser) import
     # this file without paying for numba.
     if name == "CACHE":
-        from ._cache import ensure_fresh
+        from ._cache import ensure_fresh, self_contained_linking
 
+        self_contained_linking()  # before any kernel compiles or loads: the same bits either way
         ensure_fresh()
         globals()["CACHE"] = True
         return True

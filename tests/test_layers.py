@@ -153,6 +153,46 @@ def test_every_kernel_a_caller_can_reach_is_cached_on_disk():
     assert not uncached, uncached
 
 
+def test_no_python_code_calls_an_uncached_kernel():
+    """An ``inline="always"`` kernel is not cached (numba inlines it into its callers, which are); called from
+    Python it is compiled on its own, again in every process: `solve --speed --life` and `--balls` said they
+    were compiling on every run (analysis/contacts.py called high_speed.standing_still; issue 45). Every call
+    in plain Python code (outside @njit, @overload, @intrinsic and CUDA kernels) to a function that resolves
+    to an uncached dispatcher is reported."""
+    import ast
+    import importlib
+
+    from numba.core.registry import CPUDispatcher
+
+    def uncached(obj):
+        return isinstance(obj, CPUDispatcher) and type(obj._cache).__name__ == "NullCache"
+
+    compiled_code = ("jit", "overload", "intrinsic", "vectorize")
+    found = []
+    for path in sorted(PACKAGE.rglob("*.py")):
+        name = _module_name(path)
+        module = importlib.import_module("fastbearing" if name == "__init__" else f"fastbearing.{name}")
+        names = vars(module)
+
+        def visit(node, in_kernel):
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda)) and not in_kernel:
+                decorators = [ast.unparse(d) for d in getattr(node, "decorator_list", ())]
+                in_kernel = any(mark in d for d in decorators for mark in compiled_code)
+            if isinstance(node, ast.Call) and not in_kernel:
+                f, target = node.func, None
+                if isinstance(f, ast.Name):
+                    target = names.get(f.id)
+                elif isinstance(f, ast.Attribute) and isinstance(f.value, ast.Name) and f.value.id in names:
+                    target = getattr(names[f.value.id], f.attr, None)
+                if uncached(target):
+                    found.append(f"{name}:{node.lineno} {ast.unparse(f)}")
+            for child in ast.iter_child_nodes(node):
+                visit(child, in_kernel)
+
+        visit(ast.parse(path.read_text()), False)
+    assert not found, found
+
+
 def test_stale_kernel_cache_is_dropped_also_under_numba_cache_dir(tmp_path):
     """A changed kernel source must never run old machine code, wherever numba keeps its cache."""
     import os

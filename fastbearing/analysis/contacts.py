@@ -15,7 +15,7 @@ import numpy as np
 
 from ..engine import high_speed as hs
 from ..engine import schema
-from ..engine.kernel import balls_at_speed
+from ..engine.kernel import balls_at_speed, balls_stand_still
 from ..api import _as_vector, ball_loads, speed_ball_set
 from ..model.bearing import COS_PSI, EXPONENT, KN, SIN_PSI, Bearing, check_speed
 from ..model.geometry import HertzContact
@@ -249,7 +249,7 @@ def _spinning_contacts(bearing: Bearing, q, speed) -> BallContacts:
     states = np.empty((n, schema.N_STATE))
     Q = np.empty(n)
     alpha = np.empty(n)
-    if hs.standing_still(speed_table, omega):  # as the kernel takes it: the balls at rest (no F_c, no M_g)
+    if balls_stand_still(speed_table, omega):  # as the kernel takes it: the balls at rest (no F_c, no M_g)
         omega = 0.0
     balls_at_speed(q, table, speed_table, omega, 0.0, np.empty(5), None, Q, alpha, states, hs.new_warm(n),
                    balls.four_point)

@@ -285,6 +285,14 @@ def balls_at_speed(q, table, speed_table, omega, eps, f, K, ball_load, contact_a
     return total + t, n_loaded + n, flags | more
 
 
+@njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
+def balls_stand_still(speed_table, omega):
+    """high_speed.standing_still for callers in Python (analysis.contacts): whether at the shaft speed
+    ``omega`` (rad/s) the balls count as standing still, exactly as the kernel takes it. That function is
+    inlined into the kernels and so not cached; called from Python it compiled again in every process."""
+    return standing_still(speed_table, omega)
+
+
 def four_point_share(q, table, speed_table, omega, eps, f, K, ball_load, contact_angle, states, warm, four_point):
     """The four-point balls' share added at speed (four_point.four_point_balls): (load N, loaded pairs, bits).
     Chosen while typing: ``four_point`` None compiles no four-point code."""

@@ -1,0 +1,264 @@
+"""Compile the kernels before first use: ``fastbearing warmup`` (issue 45).
+
+numba compiles each kind of run once and keeps the machine code in its on-disk cache (NUMBA_CACHE_DIR, or
+``__pycache__`` beside the sources). A warm-up runs every kernel family the command line and the API reach
+on tiny inputs built in here (the package's own bearings; nothing read from the repository's data/), so
+that a user's first command loads instead of compiling: in an install step, a container image or a cluster
+node. ``--portable LEVEL --into DIR`` builds the cache for a portable CPU level (NUMBA_CPU_NAME, e.g.
+x86-64-v3) in a fresh process, for machines with at least that level's features; a process uses it with
+the same NUMBA_CPU_NAME (and ``NUMBA_CPU_FEATURES`` empty) and ``NUMBA_CACHE_DIR=DIR``.
+
+Units: N, mm, rad; speeds in rpm.
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+#: Load (Fx, Fy, Fz, Mx, My; N, N*mm) of the paper's Table 4: the quasi-static families' operating point.
+_PAPER_LOAD = [1000.0, 0.0, 3000.0, 0.0, -74000.0]
+#: A spindle load (N) and speed (rpm) for the 7014C-DB pair at speed.
+_SPINDLE_LOAD = [500.0, 0.0, 1000.0, 0.0, 0.0]
+_SPINDLE_SPEED = 12000.0
+
+
+def _quasi_static(folder: Path) -> None:
+    from ..analysis.contacts import ball_contacts
+    from ..api import direct, solve
+    from ..model.bearing import Bearing
+
+    bearing = Bearing.preset("gunduz2013", "DB")
+    result = solve(bearing, _PAPER_LOAD)
+    direct(bearing, result.q)
+    ball_contacts(bearing, result.q)
+    solve(Bearing.preset("gunduz2013", "single"), [1000.0, 0.0, 3000.0, 0.0, 0.0])
+
+
+def _speed(folder: Path) -> None:
+    from ..analysis.contacts import ball_contacts
+    from ..api import direct, solve
+    from ..model.bearing_file import load_bearing
+
+    bearing = load_bearing("7014C-DB")
+    result = solve(bearing, _SPINDLE_LOAD, speed=_SPINDLE_SPEED)
+    direct(bearing, result.q, speed=_SPINDLE_SPEED)
+    ball_contacts(bearing, result.q, _SPINDLE_SPEED)
+
+
+def _four_point(folder: Path) -> None:
+    from ..api import direct, solve
+    from ..model.bearing_file import load_bearing
+
+    bearing = load_bearing("QJ210")
+    result = solve(bearing, [2000.0, 0.0, 1000.0, 0.0, 0.0])
+    direct(bearing, result.q)
+    solve(bearing, [2000.0, 0.0, 1000.0, 0.0, 0.0], speed=3000.0)
+
+
+def _roller(folder: Path) -> None:
+    from ..analysis.contacts import roller_contacts
+    from ..api import direct, solve
+    from ..model.bearing_file import load_bearing
+
+    for name, load in (("NU205", [3000.0, 0.0, 0.0, 0.0, 0.0]), ("30206-TDO", [4000.0, 0.0, 1500.0, 0.0, 0.0])):
+        bearing = load_bearing(name)
+        result = solve(bearing, load)
+        direct(bearing, result.q)
+        roller_contacts(bearing, result.q)
+
+
+def _life(folder: Path) -> None:
+    from ..analysis.life import rating_life
+    from ..model.bearing_file import load_bearing
+
+    rating_life(load_bearing("6205"), [2000.0, 0.0, 500.0, 0.0, 0.0], speed=1500.0)
+    rating_life(load_bearing("7014C-DB"), _SPINDLE_LOAD, speed=_SPINDLE_SPEED)
+    rating_life(load_bearing("NU205"), [3000.0, 0.0, 0.0, 0.0, 0.0], speed=1500.0)
+
+
+def _batches(folder: Path) -> None:
+    import numpy as np
+
+    from ..api import solve_many, stiffness_many
+    from ..model.bearing import Bearing
+
+    bearing = Bearing.preset("gunduz2013", "DB")
+    loads = np.array([_PAPER_LOAD, [500.0, 0.0, 2000.0, 0.0, 0.0]])
+    result = solve_many(bearing, loads, threads=1)
+    stiffness_many(bearing, result.q, threads=1)
+
+
+def _maps(folder: Path) -> None:
+    from .loadmap import loadmap
+
+    # the README's main job (data/examples/gunduz2013-db-1M.toml) on a 3 x 3 x 3 grid, then a map over speed
+    # with life (data/examples/spindle-7014-speed.toml's kind)
+    loadmap({"bearing": {"preset": "gunduz2013", "arrangement": "DB"},
+             "loadmap": {"given": "load", "Fx": {"start": -2000.0, "stop": 2000.0, "num": 3}, "Fy": 0.0,
+                         "Fz": {"start": 500.0, "stop": 10000.0, "num": 3}, "Mx": 0.0,
+                         "My": {"start": -1.0e5, "stop": 1.0e5, "num": 3}, "chunk": 65536, "compression": "none"}},
+            folder / "map.h5", threads=1, progress=False, overwrite=True)
+    loadmap({"bearing": "7014C-DB",
+             "loadmap": {"given": "load", "speed": [0.0, 12000.0], "Fx": [0.0, 500.0], "life": True,
+                         "Fz": {"start": 0.0, "stop": 2000.0, "num": 3}}},
+            folder / "speed-map.h5", threads=1, progress=False, overwrite=True)
+
+
+def _passage(folder: Path) -> None:
+    from .passage import passage
+
+    # data/examples/gunduz2013-passage.toml and 6205-outer-spall.toml, shortened
+    passage({"bearing": {"preset": "gunduz2013", "arrangement": "DB"},
+             "passage": {"given": "displacement", "points": [[0.05, 0.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 0.0, 0.03]],
+                         "positions": 16, "harmonics": 4, "shaft_speed": 3000.0, "ball_diameter": 12.0,
+                         "pitch_diameter": 70.0}},
+            folder / "passage.h5", threads=1, progress=False, overwrite=True)
+    passage({"bearing": "6205",
+             "passage": {"given": "load", "Fx": 2200.0, "speed": 1797.0, "revolutions": 1, "positions": 32,
+                         "harmonics": 8, "element_loads": True,
+                         "defects": [{"race": "outer", "angle": 0.0, "width": 0.53, "depth": 0.05,
+                                      "profile": "rectangular"}]}},
+            folder / "spall.h5", threads=1, progress=False, overwrite=True)
+
+
+def _shafts(folder: Path) -> None:
+    from ..analysis.life import LifeSettings
+    from ..analysis.shaft import read_shaft, shaft_life, solve_shaft
+
+    # data/examples/shaft-cylindrical-and-ball.toml and spindle-shaft-speed.toml
+    shaft = read_shaft({"shaft": {"reference": 0.0,
+                                  "bearings": [{"position": -60.0, "bearing": "NU205"},
+                                               {"position": 60.0, "bearing": "6305"}],
+                                  "loads": [{"position": -20.0, "force": [3000.0, 0.0, 500.0], "moment": [0.0, 0.0]}]}})
+    shaft_life(shaft, solve_shaft(shaft), LifeSettings())
+    spindle = read_shaft({"shaft": {"reference": 0.0, "speed": _SPINDLE_SPEED,
+                                    "bearings": [{"position": 0.0, "bearing": "7014C-DB"},
+                                                 {"position": 250.0, "bearing": "7014C-DB"}],
+                                    "loads": [{"position": -120.0, "force": [800.0, 300.0, 400.0]}]}})
+    result = solve_shaft(spindle, speed=_SPINDLE_SPEED)
+    shaft_life(spindle, result, LifeSettings(speed=_SPINDLE_SPEED, balls_at_speed=True))
+
+
+#: What a warm-up says when numba starts compiling (then, while it lasts, how far it is: _cache.CompileWatch).
+WARMUP_NOTICE = "fastbearing: compiling the kernels into numba's cache"
+
+#: The kernel families, in the order a warm-up compiles them: name -> (what it covers, the function).
+FAMILIES = {
+    "quasi-static": ("ball bearings at rest: solve, Kb at a displacement, each ball's contact", _quasi_static),
+    "speed": ("ball bearings at shaft speed (centrifugal force, gyroscopic moment)", _speed),
+    "four-point": ("four-point contact balls, at rest and at speed", _four_point),
+    "roller": ("cylindrical and tapered roller rows", _roller),
+    "life": ("ISO 281 and ISO/TS 16281 rating life, at rest and at speed", _life),
+    "batches": ("solve_many and stiffness_many (the API's parallel sweeps)", _batches),
+    "maps": ("load maps: the README's main job and a map over speed with life", _maps),
+    "passage": ("ball-passage tables, with a defect", _passage),
+    "shafts": ("rigid shafts on several bearings, at rest and at speed, with life", _shafts),
+}
+
+
+def check_kinds(kinds) -> list[str]:
+    """The families named in ``kinds`` (None: all), in the warm-up's order; ValueError names an unknown one."""
+    if kinds is None:
+        return list(FAMILIES)
+    unknown = [k for k in kinds if k not in FAMILIES]
+    if unknown:
+        raise ValueError(f"--kinds: unknown kernel family {', '.join(unknown)}; the families are "
+                         + ", ".join(FAMILIES))
+    return [k for k in FAMILIES if k in kinds]
+
+
+def warmup(kinds=None, *, say=None) -> dict:
+    """Compile (or load from numba's cache) the kernels of the families ``kinds`` (None: all, see
+    :data:`FAMILIES`) in this process. ``say`` receives one progress line per family (default: stderr).
+
+    Returns {family: seconds} and, under ``"compiled"``, how many compilations numba ran.
+    """
+    from numba.core import event
+
+    from .._cache import CompileWatch
+
+    names = check_kinds(kinds)
+    say = say or (lambda line: print(line, file=sys.stderr, flush=True))
+    counted = [0]
+
+    class _Count(event.Listener):
+        def on_start(self, ev):
+            counted[0] += 1
+
+        def on_end(self, ev):
+            pass
+
+    listener = _Count()
+    event.register("numba:compile", listener)
+    seconds = {}
+    started = time.perf_counter()
+    try:
+        with tempfile.TemporaryDirectory(prefix="fastbearing-warmup-") as tmp, CompileWatch(WARMUP_NOTICE):
+            for i, name in enumerate(names, 1):
+                what = FAMILIES[name][0]
+                say(f"fastbearing warmup: kernel family {i} of {len(names)}: {name} ({what}); "
+                    f"{time.perf_counter() - started:.0f} s elapsed")
+                t = time.perf_counter()
+                before = counted[0]
+                FAMILIES[name][1](Path(tmp))
+                seconds[name] = time.perf_counter() - t
+                said = "compiled" if counted[0] > before else "loaded from the cache"
+                say(f"fastbearing warmup: {name} {said} in {seconds[name]:.1f} s")
+    finally:
+        event.unregister("numba:compile", listener)
+    total = time.perf_counter() - started
+    say(f"fastbearing warmup: {len(names)} kernel families ready in {total:.1f} s ({counted[0]} compilations); "
+        "later runs load them from numba's cache")
+    return {**seconds, "compiled": counted[0]}
+
+
+#: The x86-64 micro-architecture levels (psABI) a portable cache is built for, with the CPU features each
+#: needs (llvmlite's names): the warm-up runs the code it compiles, so a host without them is refused
+#: before anything runs (an illegal instruction otherwise).
+_V2 = ("cx16", "popcnt", "sse3", "sse4.1", "sse4.2", "ssse3")
+_V3 = _V2 + ("avx", "avx2", "bmi", "bmi2", "f16c", "fma", "lzcnt", "movbe", "xsave")
+LEVELS = {"x86-64-v2": _V2, "x86-64-v3": _V3,
+          "x86-64-v4": _V3 + ("avx512f", "avx512bw", "avx512cd", "avx512dq", "avx512vl")}
+
+
+def host_features() -> set[str]:
+    """The CPU features of this machine, as LLVM names them (empty where llvmlite cannot tell)."""
+    try:
+        from llvmlite import binding as ll
+
+        return {name for name, on in ll.get_host_cpu_features().items() if on}
+    except Exception:  # not x86, or an llvmlite without it
+        return set()
+
+
+def portable_environment(level: str, into) -> dict:
+    """The environment of a process that compiles for (or runs from) a cache of the CPU level ``level``
+    (``x86-64-v3``: AVX2, FMA; ``x86-64-v4``: AVX-512; see :data:`LEVELS`) in the folder ``into``.
+    ValueError for an unknown level."""
+    if level not in LEVELS:
+        raise ValueError(f"--portable: a CPU level, one of {', '.join(LEVELS)}; not {level!r}")
+    return {**os.environ, "NUMBA_CPU_NAME": level, "NUMBA_CPU_FEATURES": "",
+            "NUMBA_CACHE_DIR": str(Path(into).resolve())}
+
+
+def warmup_portable(level: str, into, kinds=None) -> int:
+    """Build the cache of ``kinds`` for the CPU level ``level`` in the folder ``into``: a fresh process
+    (numba reads NUMBA_CPU_NAME when it starts) runs :func:`warmup`. Its progress goes to stderr; returns
+    its exit status. ValueError when this machine lacks a feature of the level (checked before anything
+    runs)."""
+    check_kinds(kinds)
+    env = portable_environment(level, into)
+    missing = sorted(set(LEVELS[level]) - host_features())
+    if missing:
+        raise ValueError(f"--portable {level}: this machine lacks {', '.join(missing)}, so it cannot run the code it "
+                         "would compile (the warm-up runs it); build that level's cache on a machine that has them")
+    Path(into).mkdir(parents=True, exist_ok=True)
+    code = ("import sys; from fastbearing.jobs.warmup import warmup; "
+            "warmup(sys.argv[1].split(',') if sys.argv[1] else None)")
+    return subprocess.run([sys.executable, "-c", code, ",".join(kinds or ())],
+                          env=env).returncode
