@@ -52,13 +52,17 @@ def _kept_if(part, value):
     return lambda part, value: value
 
 
+def _host_array(x):
+    """The simulator's device array as the NumPy array it wraps, which the CPU-compiled kernels take; a record
+    (namedtuple) field by field. (Its own name, not ``native``'s: a plain-Python call must never resolve to the
+    uncached njit ``native`` of a real GPU; tests/test_layers.py checks every call.)"""
+    if isinstance(x, tuple) and hasattr(x, "_fields"):
+        return type(x)(*(_host_array(v) for v in x))
+    return getattr(x, "_ary", x)
+
+
 if simulated():
-    def native(x):
-        """The simulator's device array as the NumPy array it wraps, which the CPU-compiled kernels take; a record
-        (namedtuple) field by field."""
-        if isinstance(x, tuple) and hasattr(x, "_fields"):
-            return type(x)(*(native(v) for v in x))
-        return getattr(x, "_ary", x)
+    native = _host_array
 else:
     @njit(inline="always")
     def native(x):
