@@ -178,43 +178,28 @@ def warmup(kinds=None, *, say=None) -> dict:
 
     Returns {family: seconds} and, under ``"compiled"``, how many compilations numba ran.
     """
-    from numba.core import event
-
     from .._cache import CompileWatch
 
     names = check_kinds(kinds)
     say = say or (lambda line: print(line, file=sys.stderr, flush=True))
-    counted = [0]
-
-    class _Count(event.Listener):
-        def on_start(self, ev):
-            counted[0] += 1
-
-        def on_end(self, ev):
-            pass
-
-    listener = _Count()
-    event.register("numba:compile", listener)
     seconds = {}
     started = time.perf_counter()
-    try:
-        with tempfile.TemporaryDirectory(prefix="fastbearing-warmup-") as tmp, CompileWatch(WARMUP_NOTICE):
-            for i, name in enumerate(names, 1):
-                what = FAMILIES[name][0]
-                say(f"fastbearing warmup: kernel family {i} of {len(names)}: {name} ({what}); "
-                    f"{time.perf_counter() - started:.0f} s elapsed")
-                t = time.perf_counter()
-                before = counted[0]
-                FAMILIES[name][1](Path(tmp))
-                seconds[name] = time.perf_counter() - t
-                said = "compiled" if counted[0] > before else "loaded from the cache"
-                say(f"fastbearing warmup: {name} {said} in {seconds[name]:.1f} s")
-    finally:
-        event.unregister("numba:compile", listener)
+    # the watch counts numba's compilations (``compiled``) as it says how far they are: no second listener
+    with tempfile.TemporaryDirectory(prefix="fastbearing-warmup-") as tmp, CompileWatch(WARMUP_NOTICE) as watch:
+        for i, name in enumerate(names, 1):
+            what = FAMILIES[name][0]
+            say(f"fastbearing warmup: kernel family {i} of {len(names)}: {name} ({what}); "
+                f"{time.perf_counter() - started:.0f} s elapsed")
+            t = time.perf_counter()
+            before = watch.compiled
+            FAMILIES[name][1](Path(tmp))
+            seconds[name] = time.perf_counter() - t
+            said = "compiled" if watch.compiled > before else "loaded from the cache"
+            say(f"fastbearing warmup: {name} {said} in {seconds[name]:.1f} s")
     total = time.perf_counter() - started
-    say(f"fastbearing warmup: {len(names)} kernel families ready in {total:.1f} s ({counted[0]} compilations); "
+    say(f"fastbearing warmup: {len(names)} kernel families ready in {total:.1f} s ({watch.compiled} compilations); "
         "later runs load them from numba's cache")
-    return {**seconds, "compiled": counted[0]}
+    return {**seconds, "compiled": watch.compiled}
 
 
 #: The x86-64 micro-architecture levels (psABI) a portable cache is built for, with the CPU features each
