@@ -8,7 +8,8 @@ N*mm/rad (tilts) and N/rad (coupling), all at the bearing centre.
 from __future__ import annotations
 
 import contextlib
-from dataclasses import dataclass
+from collections import namedtuple
+from dataclasses import dataclass, replace
 
 import numba
 import numpy as np
@@ -19,7 +20,7 @@ from . import status as st
 
 from . import validate
 from .model.bearing import Bearing, check_speed, check_speed_model
-from .model.mounted import operating, refuse_speed_cases
+from .model.mounted import operating, operating_rows, refuse_speed_cases
 from .dofs import DISPLACEMENT_NAMES, DISPLACEMENT_UNITS, LOAD_NAMES, LOAD_UNITS  # noqa: F401 (public names)
 from .engine.kernel import ball_loop
 from .config import METHODS, NEWTON
@@ -226,16 +227,21 @@ def speed_ball_set(bearing: Bearing, speed) -> tuple:
     return bearing.ball_set(speed=speed)
 
 
+def case_speeds(speed, n: int) -> np.ndarray:
+    """(n,) rpm from one number or one per case, each checked (FieldError naming ``speed[i]``)."""
+    values = np.asarray(speed, dtype=object)
+    if values.ndim == 0:
+        return np.full(n, check_speed(speed))
+    if values.ndim == 1 and values.shape[0] == n:
+        return np.array([check_speed(v, f"speed[{i}]") for i, v in enumerate(values)], dtype=float)
+    raise validate.FieldError("speed", f"must be one number or one per case ({n}), rpm >= 0", show_value=False)
+
+
 def speed_cases(bearing: Bearing, speed, n: int) -> tuple[tuple, np.ndarray]:
     """(ball set, per-case omega in rad/s) for n cases at ``speed`` (rpm: one number, or N numbers):
     the quasi-static set and no speeds when every speed is 0."""
     values = np.asarray(speed, dtype=object)
-    if values.ndim == 0:
-        speeds = np.full(n, check_speed(speed))
-    elif values.ndim == 1 and values.shape[0] == n:
-        speeds = np.array([check_speed(v, f"speed[{i}]") for i, v in enumerate(values)], dtype=float)
-    else:
-        raise validate.FieldError("speed", f"must be one number or one per case ({n}), rpm >= 0", show_value=False)
+    speeds = case_speeds(speed, n)
     if not speeds.any():
         return bearing.ball_set(), np.zeros(0)
     fastest = int(np.argmax(speeds))
@@ -385,8 +391,78 @@ class SolveManyResult:
         return st.converged_mask(self.status)
 
 
+#: :func:`case_operating`'s answer: ``bearing`` whose tables the cases start from; ``table`` None or (n, rows,
+#: schema.N_OPERATING), contract.CaseBlock.operating; ``outside`` None or (n,) bool; ``notes``; and each case's
+#: ``radial_clearance`` and ``axial_preload`` (n, rows) mm (nan where a mount is outside the model; None with
+#: table None).
+CaseOperating = namedtuple("CaseOperating", "bearing table outside notes radial_clearance axial_preload")
+
+
+def case_operating(bearing: Bearing, n: int, speed=0.0, radial_clearance=None, axial_preload=None,
+                   temperatures=None, per_case: bool = False) -> CaseOperating:
+    """What n cases that vary the bearing give the kernels (a :data:`CaseOperating`).
+
+    - A bearing without ``[bearing.mounting]``: each case's own ``radial_clearance`` rL and ``axial_preload``
+      d0 (mm; None: the rows' own; one number, one per row (rows,), or one per case and row (n, rows)).
+    - A mounted bearing: each case's operating clearance and preload from its ``speed`` (rpm, one or (n,)) and
+      ``temperatures`` ({key: deg C, one or (n,)}, keys of model.mounted.CASE_TEMPERATURES), one mount per
+      distinct (speed, temperatures) (model.mounted.operating_rows). One speed and no temperatures: the
+      operating bearing itself (operating None), bit for bit as :func:`solve`, unless ``per_case`` (a map's
+      block whose cases happen to share them).
+    ``outside``: the cases whose values fail the rows' own checks (status outside_model, not solved); None
+    when every case passes. ``notes``: the mounts' notes (fits lost, hoop stress), each once."""
+    bearing = _check_bearing(bearing)
+    if bearing.mounting is not None:
+        if radial_clearance is not None or axial_preload is not None:
+            raise validate.FieldError("radial_clearance", "is set by [bearing.mounting] (fits, temperatures, "
+                                      "speed) for a mounted bearing: give a bearing without mounting to set it "
+                                      "per case", show_value=False)
+        speeds = np.broadcast_to(np.asarray(speed, dtype=float), (n,))
+        if not per_case and not temperatures and np.unique(speeds).size <= 1:
+            return CaseOperating(_operating(bearing, speeds[0] if n else 0.0), None, None, [], None, None)
+        rL, d0, notes = operating_rows(bearing, speeds, temperatures)
+        base = replace(bearing, mounting=None)  # the tables' other entries do not depend on the clearance
+    else:
+        if temperatures:
+            raise validate.FieldError("temperatures", "need [bearing.mounting] (fits, materials) to act on the "
+                                      "bearing", show_value=False)
+        if radial_clearance is None and axial_preload is None:
+            return CaseOperating(bearing, None, None, [], None, None)
+        rL = _per_case_row(radial_clearance, [r.radial_clearance for r in bearing.rows], n, "radial_clearance")
+        d0 = _per_case_row(axial_preload, [r.axial_preload for r in bearing.rows], n, "axial_preload")
+        base, notes = bearing, []
+    outside = ~np.all(np.isfinite(rL) & np.isfinite(d0), axis=1)
+    own_rL = np.array([r.radial_clearance for r in base.rows])
+    own_d0 = np.array([r.axial_preload for r in base.rows])
+    # a case outside the model is not solved: any valid values in its tables
+    table, valid = base.operating_table(np.where(outside[:, None], own_rL, rL), np.where(outside[:, None], own_d0, d0))
+    outside |= ~valid
+    return CaseOperating(base, table, (outside if outside.any() else None), notes, rL, d0)
+
+
+def _per_case_row(value, own, n: int, name: str) -> np.ndarray:
+    """(n, rows) float64 mm from one number, one per row or one per case and row (None: ``own``, the rows')."""
+    rows = len(own)
+    if value is None:
+        return np.broadcast_to(np.asarray(own, dtype=float), (n, rows)).copy()
+    arr = np.asarray(value, dtype=float)
+    if arr.ndim == 0:
+        arr = np.full((n, rows), float(arr))
+    elif arr.ndim == 1 and arr.shape[0] == rows and not (n == rows and rows > 1):
+        arr = np.broadcast_to(arr, (n, rows)).copy()
+    elif arr.ndim == 1 and arr.shape[0] == n and rows == 1:
+        arr = arr[:, None].copy()
+    if arr.shape != (n, rows):
+        raise validate.FieldError(name, f"must be one number, one per row ({rows}) or one per case and row "
+                                  f"({n}, {rows}), in mm", show_value=False)
+    if not np.all(np.isfinite(arr)):
+        raise validate.FieldError(name, "must be finite numbers (mm)", show_value=False)
+    return arr
+
+
 def solve_many(bearing: Bearing, f, q0=None, method: str = "newton", rtol=None, max_iter=None,
-               threads=None, speed=0.0, fixed=None, device: str = "cpu") -> SolveManyResult:
+               threads=None, speed=0.0, fixed=None, device: str = "cpu", radial_clearance=None,
+               axial_preload=None, temperatures=None) -> SolveManyResult:
     """Solve many independent load cases in parallel.
 
     Parameters
@@ -407,6 +483,12 @@ def solve_many(bearing: Bearing, f, q0=None, method: str = "newton", rtol=None, 
         one case per GPU thread (fastbearing.engine.gpu; ``threads`` is then ignored); the results agree
         with the CPU's to rounding. Without numba-cuda, a CUDA driver or a GPU:
         fastbearing.engine.device.CudaUnavailable (a RuntimeError) naming what is missing.
+    radial_clearance, axial_preload : float, (rows,) or (N, rows), optional
+        Each case's own radial clearance rL and axial preload d0 per row in mm (a bearing without
+        ``[bearing.mounting]``; None: the rows' own). A mounted bearing takes its cases' operating values from
+        its fits at each case's ``speed`` and ``temperatures`` ({key: deg C, one or (N,)}: the
+        ``[bearing.mounting]`` temperature keys). A case whose values fail the rows' checks gets the status
+        ``outside_model`` and nan (:func:`case_operating`). CPU only for now.
 
     ``bearing``, ``method``, ``rtol`` and ``max_iter`` are as in :func:`solve`.
     Results do not depend on the thread count.
@@ -423,10 +505,11 @@ def solve_many(bearing: Bearing, f, q0=None, method: str = "newton", rtol=None, 
         in ``status``, never raised; bad input raises ValueError as in
         :func:`solve` (and when ``q0`` has another number of cases than ``f``).
     """
-    bearing = _operating(bearing, speed, many=True)
     device = validate.choice(device, "device", DEVICES)
     loads = as_cases(f, "f", "Fx, Fy, Fz in N; Mx, My in N*mm")
     n = loads.shape[0]
+    bearing, operating, outside = case_operating(bearing, n, case_speeds(speed, n), radial_clearance, axial_preload,
+                                                 temperatures)[:3]
     held = boundary.parse_fixed(fixed, n, bearing=bearing)
     f_targets = boundary.targets(loads, held)
     opts = solver_settings(bearing, method, rtol, max_iter, held.mask)
@@ -441,7 +524,10 @@ def solve_many(bearing: Bearing, f, q0=None, method: str = "newton", rtol=None, 
     out = SolveManyResult(q, np.empty((n, 5)), np.empty((n, 5, 5)), np.empty(n, np.int8), np.empty(n, np.int32),
                           np.empty(n), np.empty(n, np.int32))
     solutions = Solutions(out.q, out.f, out.K, out.status, out.iterations, out.residual, out.evaluations)
-    cases = CaseBlock(f_targets, np.zeros(0, np.int64), speeds, solutions)
+    if outside is not None:
+        f_targets = f_targets.copy()
+        f_targets[outside] = np.nan  # not solved (nonfinite_input at once), then flagged below
+    cases = CaseBlock(f_targets, np.zeros(0, np.int64), speeds, operating, solutions)
     if device == "cuda":
         from .engine.gpu import solve_sweep_cuda  # numba.cuda is imported only here
 
@@ -449,6 +535,9 @@ def solve_many(bearing: Bearing, f, q0=None, method: str = "newton", rtol=None, 
         return out
     with num_threads(threads):
         solve_sweep(balls, cases, opts, warm, config.SWEEP_BLOCK)
+    if outside is not None:
+        out.status[outside] = st.OUTSIDE_MODEL
+        out.q[outside] = out.f[outside] = out.K[outside] = np.nan
     return out
 
 

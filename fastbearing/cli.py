@@ -164,6 +164,23 @@ def build_parser() -> argparse.ArgumentParser:
                            "with --resume."))
     m.add_argument("config", metavar="CONFIG.toml", help="config with [bearing] and [loadmap] tables")
     _add_job_arguments(m)
+    mc = sub.add_parser("montecarlo", help="tolerance zones sampled: every sample's operating clearance and Kb, "
+                        "to HDF5 or zarr, with percentiles and sensitivities",
+                        description=(
+                            "Draw the tolerance zones of the [bearing.mounting] of CONFIG.toml (shaft and housing "
+                            "fit classes: ISO 286-2 shaft and housing deviations, ISO 492 Normal ring bore and OD; "
+                            "a clearance group or range) uniformly and independently, [montecarlo] samples of "
+                            "them, and solve each sample at its own operating clearance and preload under the "
+                            "[montecarlo] load (Fx, Fy, Fz in N; Mx, My in N*mm), speed (rpm) and temperatures "
+                            "(deg C). Stores each sample's inputs (mm), operating_diametral_clearance and "
+                            "operating_axial_preload (mm), q, f, Kb, status and lives; prints the percentiles "
+                            "(1, 5, 50, 95, 99) of the operating clearance, kxx, kzz and L10r, P(operating "
+                            "clearance < 0) and the rank correlation of each input with each output. The same "
+                            "seed gives the same file bit for bit; an interrupted run continues with --resume."))
+    mc.add_argument("config", metavar="CONFIG.toml", help="config with [bearing] (and [bearing.mounting]) and "
+                    "[montecarlo] tables")
+    _add_job_arguments(mc)
+    mc.add_argument("--json", action="store_true", help="print the summary as one JSON object (units in the keys)")
     p = sub.add_parser("passage", help="ball-passage (time-varying) stiffness tables, to HDF5 or zarr (and CSV)",
                        description=(
                            "Rotate the ball set through one ball-pass period and tabulate Kb (and q) at every "
@@ -640,6 +657,23 @@ def _loadmap(args) -> int:
     return _run_job(loadmap, args, device=args.device)
 
 
+def _montecarlo(args) -> int:
+    import json
+
+    from .jobs.montecarlo import montecarlo, summary_text
+
+    result = {}
+
+    def run(*a, **kw):
+        result["out"], result["summary"] = montecarlo(*a, **kw)
+
+    code = _run_job(run, args, device=args.device)
+    if code == 0:
+        summary = result["summary"]
+        print(json.dumps(summary) if args.json else f"{result['out']}\n{summary_text(summary)}")
+    return code
+
+
 def _bearing(args):
     if args.bearing:
         if args.arrangement:
@@ -921,7 +955,8 @@ def main(argv=None) -> int:
         notice = None if args.command == "warmup" else COMPILE_NOTICE  # the warm-up says its own
         with CompileWatch(notice), warnings.catch_warnings():
             warnings.showwarning = _show_warning
-            return {"solve": _solve, "bearing": _bearing_command, "loadmap": _loadmap, "passage": _passage,
+            return {"solve": _solve, "bearing": _bearing_command, "loadmap": _loadmap, "montecarlo": _montecarlo,
+                    "passage": _passage,
                     "plot": _plot, "paper": _paper, "shaft": _shaft, "export": _export,
                     "bearings": _bearings, "warmup": _warmup}[args.command](args)
     except DiskFull as err:
@@ -950,11 +985,12 @@ def main(argv=None) -> int:
         return EXIT_USAGE
 
 
-_COMMANDS = ("solve", "bearing", "bearings", "loadmap", "passage", "plot", "paper", "shaft", "export", "warmup")
+_COMMANDS = ("solve", "bearing", "bearings", "loadmap", "montecarlo", "passage", "plot", "paper", "shaft", "export",
+             "warmup")
 
 
 #: The commands that run kernels (and so start numba's compiler contexts).
-_KERNEL_COMMANDS = ("solve", "loadmap", "passage", "plot", "paper", "shaft", "warmup")
+_KERNEL_COMMANDS = ("solve", "loadmap", "montecarlo", "passage", "plot", "paper", "shaft", "warmup")
 
 
 def start_numba_without_blas() -> None:

@@ -32,7 +32,13 @@ LONG_NAMES = {
     "My": "moment about y on the inner ring",
     "dx": "inner-ring displacement x", "dy": "inner-ring displacement y", "dz": "inner-ring axial displacement",
     "bx": "inner-ring tilt about x", "by": "inner-ring tilt about y",
+    "inner_ring_temperature": "inner ring temperature", "outer_ring_temperature": "outer ring temperature",
+    "ball_temperature": "rolling element temperature", "shaft_temperature": "shaft temperature",
+    "housing_temperature": "housing temperature", "assembly_temperature": "assembly temperature",
+    "sample": "Monte Carlo sample number",
 }
+#: Units of a temperature axis (CF/UDUNITS spelling).
+TEMPERATURE_UNITS = "degC"
 
 
 def k_entry_units(i: int, j: int) -> str:

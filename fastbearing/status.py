@@ -24,6 +24,10 @@ NONFINITE_RESULT = 7
 #: At speed: some ball's own equilibrium (centrifugal force, gyroscopic moment) did not settle at the
 #: returned q, so f and Kb there are not the model's (high_speed.settle_ball).
 BALL_EQUILIBRIUM = 8
+#: A case that varies the bearing (its own fits, temperatures, speed or sampled tolerances) whose operating
+#: clearance or preload falls outside the model's range (the rows' own checks: groove centres crossed, a
+#: preload deflecting each ball by more than 10 % of A0): not solved, q, f and Kb nan.
+OUTSIDE_MODEL = 9
 
 #: Warning bit: at the solution a loaded ball's contact angle has the opposite
 #: sign to its row's contact direction (the ring may have no shoulder there).
@@ -53,6 +57,7 @@ NAMES = {
     PRECISION_LIMIT: "precision_limit",
     NONFINITE_RESULT: "nonfinite_result",
     BALL_EQUILIBRIUM: "ball_equilibrium",
+    OUTSIDE_MODEL: "outside_model",
 }
 
 

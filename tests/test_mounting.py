@@ -108,11 +108,11 @@ def test_mounted_pair_at_speed_solves_as_its_operating_twin():
     assert all(r.radial_clearance == 0.5 * budget["rows"][0]["operating_diametral_clearance"] for r in op.rows)
 
 
-def test_solve_many_refuses_several_speeds_on_a_mounted_bearing():
-    bearing = bearing_6205()
+def test_stiffness_many_refuses_several_speeds_on_a_mounted_bearing():
+    bearing = bearing_6205()  # solve_many and load maps take each case's own (tests/test_operating_cases.py)
     with pytest.raises(ValueError, match="several speeds on a bearing with \\[bearing.mounting\\] are not "
-                                         "supported yet.*one speed per run"):
-        fb.solve_many(bearing, [[1000.0, 0, 0, 0, 0]] * 2, speed=[0.0, 3000.0])
+                                         "supported here.*use solve_many or a load map"):
+        fb.stiffness_many(bearing, [[0.01, 0, 0, 0, 0]] * 2, speed=[0.0, 3000.0])
 
 
 # -- clearance groups and ranges ---------------------------------------------------------------
@@ -289,12 +289,6 @@ def test_loadmap_of_a_mounted_bearing_runs_its_operating_bearing(tmp_path):
     assert np.allclose(K[-1, -1], r.K, rtol=1e-9, atol=1e-6)
 
 
-def test_loadmap_with_a_speed_axis_on_a_mounted_bearing_is_refused(tmp_path):
-    path = tmp_path / "map.toml"
-    path.write_text(TOML_6205 + MAP + "speed = [0.0, 3000.0]\n")
-    with pytest.raises(ValueError, match="loadmap.speed: several speeds on a bearing with \\[bearing.mounting\\] "
-                                         "are not supported yet"):
-        fb.loadmap(path, tmp_path / "map.h5", progress=False)
 
 
 def test_passage_table_of_a_mounted_bearing_records_its_operating_clearance(tmp_path):

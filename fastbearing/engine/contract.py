@@ -27,10 +27,12 @@ Elements = namedtuple("Elements", "balls ball_row life C0")
 
 #: One block of cases. ``inputs`` (N, 5): loads (N, N*mm) or displacements (mm, rad); ``segments`` the
 #: continuation runs (grid.segment_starts; a batch's or a passage table's may be empty); ``speeds`` (N,) shaft
-#: speed per case (rad/s), empty for a quasi-static block; ``results`` the block's outputs.
-#: Per-case bearing values join here, as (N,) arrays beside ``speeds``, applied where a case's element set is
-#: made (sweep.at_speed): e.g. a clearance or preload offset per case (mm; issue 44), not built yet.
-CaseBlock = namedtuple("CaseBlock", "inputs segments speeds results")
+#: speed per case (rad/s), empty for a quasi-static block; ``operating`` None (every case the bearing as its
+#: tables hold it) or (N, rows, schema.N_OPERATING) float64, each case's own operating clearance and preload
+#: per row as the tables take them (bearing.Bearing.operating_table; written into a thread's own copy of the
+#: tables where the case's element set is made, sweep.with_operating); ``results`` the block's outputs.
+#: Per-case bearing values join here, beside ``speeds`` and ``operating``.
+CaseBlock = namedtuple("CaseBlock", "inputs segments speeds operating results")
 
 #: A map's outputs, leading dim the block's cases: q (N, 5) mm, rad; f (N, 5) N, N*mm; K (N, 5, 5) N/mm,
 #: N*mm/rad, N/rad; status int8; iterations int32; residual (relative); per row (N, rows): max_load (N),
@@ -59,8 +61,10 @@ Positions = namedtuple("Positions", "tables slices speed_tables")
 #: (PREDICTOR_ROWS, 5); the per-element record ``ball_load`` (N) and ``contact_angle`` (rad), each
 #: ScratchShape.record long; ``sums`` (life_rows, 2) the life sums; ``spin`` the balls' warm starts
 #: (warm_rows, n_balls; None quasi-static); ``outer_load``, ``outer_count`` (rows,) the outer contacts' row
-#: summary at speed.
-Scratch = namedtuple("Scratch", "work predictor ball_load contact_angle sums spin outer_load outer_count")
+#: summary at speed; ``table`` and ``slices`` the thread's own copies of the ball and slice tables, where each
+#: case's operating values are written (None without CaseBlock.operating; ``slices`` None without roller rows).
+Scratch = namedtuple("Scratch", "work predictor ball_load contact_angle sums spin outer_load outer_count table "
+                                "slices")
 
 #: The GPU's stand-in for a part a record lacks (numba-cuda passes arrays and scalars to a kernel, not None): a
 #: one-element bool array, a type no real table has, which the kernels turn back into None while typing

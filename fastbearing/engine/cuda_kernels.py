@@ -14,7 +14,7 @@ from numba import float64, njit, types
 from numba.extending import overload
 
 from ..config import CACHE, ERROR_MODEL, REFCOUNT
-from .contract import Elements, Positions, Scratch
+from .contract import CaseBlock, Elements, Positions, Scratch
 from .device import import_cuda, simulated
 from .schema import ElementSet
 from .solver import WORK_ROWS
@@ -86,7 +86,13 @@ def thread_scratch(work, predictor, rows, t, spin):
     """Thread t's contract.Scratch: its local ``work`` and ``predictor`` arrays, its rows of the launch's
     gpu.ThreadRows ``rows`` and its balls' warm starts ``spin`` (None quasi-static)."""
     return Scratch(work, predictor, rows.ball_load[t], rows.contact_angle[t], rows.sums[t], spin, rows.outer_load[t],
-                   rows.outer_count[t])
+                   rows.outer_count[t], None, None)  # no per-case operating values on the GPU (gpu._inputs)
+
+
+@njit(inline="always")
+def case_block(cases):
+    """The kernels' CaseBlock from its device form: ``operating`` None again where it is contract.ABSENT."""
+    return CaseBlock(cases.inputs, cases.segments, cases.speeds, present(cases.operating), cases.results)
 
 
 @njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
@@ -112,7 +118,7 @@ def solve_kernel(tables, cases, spin_all, settings, warm):
     t = cuda.grid(1)
     n_threads = cuda.gridsize(1)
     work = cuda.local.array((WORK_ROWS, 5), float64)
-    tables, cases, spin_all = native(tables), native(cases), native(spin_all)
+    tables, cases, spin_all = native(tables), case_block(native(cases)), native(spin_all)
     balls = element_set(tables, spin_all, t)
     for i in range(t, cases.inputs.shape[0], n_threads):
         solve_one(cases, balls, i, settings, warm, work)
@@ -126,7 +132,7 @@ def map_kernel(elements, cases, given_load, settings, stop, rows):
     n_threads = cuda.gridsize(1)
     work = cuda.local.array((WORK_ROWS, 5), float64)
     predictor = cuda.local.array((PREDICTOR_ROWS, 5), float64)
-    elements, cases, stop, rows = native(elements), native(cases), native(stop), native(rows)
+    elements, cases, stop, rows = native(elements), case_block(native(cases)), native(stop), native(rows)
     balls = element_set(elements.balls, rows.spin, t)
     mine = Elements(balls, elements.ball_row, elements.life, elements.C0)
     scratch = thread_scratch(work, predictor, rows, t, balls.warm)
@@ -141,7 +147,7 @@ def passage_kernel(elements, positions, cases, given_load, settings, rows):
     t = cuda.grid(1)
     n_threads = cuda.gridsize(1)
     work = cuda.local.array((WORK_ROWS, 5), float64)
-    elements, positions, cases, rows = native(elements), native(positions), native(cases), native(rows)
+    elements, positions, cases, rows = native(elements), native(positions), case_block(native(cases)), native(rows)
     balls = element_set(elements.balls, rows.spin, t)
     mine = Elements(balls, elements.ball_row, elements.life, elements.C0)
     at = Positions(positions.tables, present(positions.slices), present(positions.speed_tables))

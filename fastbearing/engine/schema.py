@@ -45,10 +45,19 @@ N_BALL_COLUMNS = 2 * N_BALL_FIELDS + 3
 #: A roller's slices are contiguous and share its azimuth, centre (S_AXIAL, S_RADIUS; mm), normal
 #: (S_NORMAL_R, S_NORMAL_Z), unloaded approach offset at the slice (S_OFFSET, mm), stiffness per slice
 #: (S_STIFFNESS, N/mm^(10/9)), row, roller number in the element record, contact angle (rad), deflection
-#: scale (mm) and slice count; S_POSITION is x_k along the roller (mm).
+#: scale (mm) and slice count; S_POSITION is x_k along the roller (mm); S_CROWN the crown drop c(x_k) (mm), so
+#: that S_OFFSET = the row's unloaded approach - S_CROWN can be set again for a case's own clearance and preload.
 (S_COS_PSI, S_SIN_PSI, S_AXIAL, S_RADIUS, S_NORMAL_R, S_NORMAL_Z, S_OFFSET, S_STIFFNESS, S_ROW, S_ROLLER,
- S_ANGLE, S_SCALE, S_POSITION, S_COUNT) = range(14)
-N_SLICE_COLUMNS = 14
+ S_ANGLE, S_SCALE, S_POSITION, S_COUNT, S_CROWN) = range(15)
+N_SLICE_COLUMNS = 15
+
+# -- a case's own operating clearance and preload (contract.CaseBlock.operating): (rows, N_OPERATING) per case ----
+#: What a row's clearance rL and preload d0 set in the tables (bearing.Bearing.operating_table): a ball row's
+#: UR0, UZ0 and GAP2 (mm, mm, mm^2; every ball of the row alike), a roller row's unloaded approach
+#: d0 sin(a) - rL cos(a) (mm, in OP_UR0; the other two 0).
+OP_UR0, OP_UZ0, OP_GAP2 = range(3)
+OP_APPROACH = OP_UR0
+N_OPERATING = 3
 
 # -- speed table (bearing.Bearing.speed_table, geometry.speed_columns): column j is ball j ----------------------
 #: (f_i - 1/2) D, (f_o - 1/2) D (mm); each race's Hertz constant at a0 (N/mm^1.5); m d_m/2 (kg*m: F_c in N

@@ -16,6 +16,8 @@ from ..config import CACHE, ERROR_MODEL, REFCOUNT
 from .kernel import at_position, ball_loop, forget_warm, warm_scratch
 from .linalg import stiffness_solve
 from .roots import cube_root
+from .schema import (GAP2, HALF_COUNT, MIRROR_HALF, OP_APPROACH, OP_GAP2, OP_UR0, OP_UZ0, ROW, S_CROWN,
+                     S_OFFSET, S_ROW, UR0, UZ0)
 from .schema import LIFE_CE, LIFE_CI, LIFE_FIRST, LIFE_INNER, LIFE_SLICES, LIFE_X0, LIFE_Y0, LIFE_Z
 from .solver import WORK_ROWS, solve_case, with_warnings
 from .contract import CaseBlock, Elements, Scratch, scratch_shape
@@ -66,6 +68,59 @@ def _at_speed(balls, speeds, i, warm, fresh):
     return spinning
 
 
+def with_operating(balls, operating, i, table, slices):
+    """The element set of case i with its own operating clearance and preload: ``balls`` itself when
+    ``operating`` is None (chosen while typing: no code for it), else ``balls`` with the thread's own copies
+    ``table`` and ``slices`` (of balls.balls and balls.slices; slices None without roller rows) holding row by
+    row ``operating[i]`` (contract.CaseBlock.operating; :func:`set_operating`)."""
+
+
+@overload(with_operating, inline="always")
+def _with_operating(balls, operating, i, table, slices):
+    if isinstance(operating, types.NoneType):
+        return lambda balls, operating, i, table, slices: balls
+
+    def own(balls, operating, i, table, slices):
+        set_operating(operating[i], table, slices)
+        return at_position(balls, table, slices, balls.omega, balls.warm, balls.speed_table)
+    return own
+
+
+@njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
+def set_operating(rows, table, slices):
+    """Write one case's operating values ``rows`` (n_rows, schema.N_OPERATING; bearing.Bearing.operating_table)
+    into a ball table (its UR0, UZ0, GAP2, the mirror half's too) and a slice table (None without roller rows:
+    S_OFFSET = the row's unloaded approach - the slice's crown drop, as rollers.slice_table sets it)."""
+    for j in range(table.shape[1]):
+        r = int(table[ROW, j])
+        table[UR0, j] = rows[r, OP_UR0]
+        table[UZ0, j] = rows[r, OP_UZ0]
+        table[GAP2, j] = rows[r, OP_GAP2]
+    half = int(table[HALF_COUNT, 0]) if table.shape[1] > 0 else 0
+    for c in range(half):
+        r = int(table[MIRROR_HALF + ROW, c])
+        table[MIRROR_HALF + UR0, c] = rows[r, OP_UR0]
+        table[MIRROR_HALF + UZ0, c] = rows[r, OP_UZ0]
+        table[MIRROR_HALF + GAP2, c] = rows[r, OP_GAP2]
+    if slices is not None:
+        for k in range(slices.shape[1]):
+            slices[S_OFFSET, k] = rows[int(slices[S_ROW, k]), OP_APPROACH] - slices[S_CROWN, k]
+
+
+def own_tables(balls, operating):
+    """A thread's own copies of the ball and slice tables (slices None without roller rows) for
+    :func:`with_operating`, or (None, None) when ``operating`` is None (chosen while typing)."""
+
+
+@overload(own_tables, inline="always", jit_options={"_nrt": True})
+def _own_tables(balls, operating):
+    if isinstance(operating, types.NoneType):
+        return lambda balls, operating: (None, None)
+    if isinstance(balls.types[balls.fields.index("slices")], types.NoneType):
+        return lambda balls, operating: (balls.balls.copy(), None)
+    return lambda balls, operating: (balls.balls.copy(), balls.slices.copy())
+
+
 @njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
 def forget_if(warm, fresh):
     """:func:`forget_warm` (the balls' warm starts dropped) when ``fresh``, else nothing."""
@@ -80,21 +135,25 @@ def forget_if(warm, fresh):
 def solve_sweep(balls, cases, settings, warm, block):
     """Solve every row of ``cases.inputs`` (N, 5; N, N*mm) into ``cases.results`` (a contract.Solutions); its q
     holds warm starts when ``warm``; with a spinning ball set, case i runs at ``cases.speeds[i]`` rad/s
-    (:func:`at_speed`). Blocks of ``block`` cases, each with its own scratch."""
-    solve_blocks(balls, tuple(cases[:3]), cases.results, settings, warm, block)
+    (:func:`at_speed`), and with ``cases.operating`` at its own clearance and preload (:func:`with_operating`).
+    Blocks of ``block`` cases, each with its own scratch."""
+    solve_blocks(balls, tuple(cases[:4]), cases.results, settings, warm, block)
 
 
 @njit(parallel=True, cache=CACHE, error_model=ERROR_MODEL)
 def solve_blocks(balls, arrays, results, settings, warm, block):
-    """:func:`solve_sweep`'s parallel loop over blocks (``arrays``: the CaseBlock's inputs, segments, speeds)."""
+    """:func:`solve_sweep`'s parallel loop over blocks (``arrays``: the CaseBlock's inputs, segments, speeds,
+    operating)."""
     n = arrays[0].shape[0]
     n_blocks = (n + block - 1) // block
     for b in prange(n_blocks):
-        cases = CaseBlock(arrays[0], arrays[1], arrays[2], results)
+        cases = CaseBlock(arrays[0], arrays[1], arrays[2], arrays[3], results)
         work = np.empty((WORK_ROWS, 5))
         spin = warm_scratch(balls.speed_table)
+        table, slices = own_tables(balls, cases.operating)
         for i in range(b * block, min(n, (b + 1) * block)):
-            solve_into(cases, i, at_speed(balls, cases.speeds, i, spin, True), settings, warm, work)
+            mine = with_operating(balls, cases.operating, i, table, slices)
+            solve_into(cases, i, at_speed(mine, cases.speeds, i, spin, True), settings, warm, work)
 
 
 @njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
@@ -424,7 +483,7 @@ def map_sweep(elements, cases, given_load, settings, stop):
     (smallest, largest loaded outer contact angle per row, rad) are filled in a map at speed (else (1, rows),
     untouched). The per-thread scratch is sized by contract.scratch_shape, as on the GPU.
     """
-    map_groups(elements.balls, tuple(elements[1:]), tuple(cases[:3]), cases.results, scratch_shape(elements, cases),
+    map_groups(elements.balls, tuple(elements[1:]), tuple(cases[:4]), cases.results, scratch_shape(elements, cases),
                given_load, settings, stop)
 
 
@@ -432,23 +491,25 @@ def map_sweep(elements, cases, given_load, settings, stop):
 def map_groups(balls, tables, arrays, results, shape, given_load, settings, stop):
     """:func:`map_sweep`'s parallel loop: the block's runs shared among MAP_GROUPS groups, each with one
     Scratch of ``shape`` (contract.ScratchShape). The records come in parts (``tables``: Elements' ball_row,
-    life, C0; ``arrays``: CaseBlock's inputs, segments, speeds)."""
+    life, C0; ``arrays``: CaseBlock's inputs, segments, speeds, operating)."""
     n_runs = arrays[1].shape[0] - 1
     groups = min(n_runs, MAP_GROUPS)
     for g in prange(groups):
         elements = Elements(balls, tables[0], tables[1], tables[2])
-        cases = CaseBlock(arrays[0], arrays[1], arrays[2], results)
-        scratch = new_scratch(shape, balls.speed_table, results.n_loaded)
+        cases = CaseBlock(arrays[0], arrays[1], arrays[2], arrays[3], results)
+        scratch = new_scratch(shape, balls, cases.operating, results.n_loaded)
         map_runs(range(g, n_runs, groups), elements, cases, given_load, settings, stop, scratch)
 
 
 @njit(inline="always")
-def new_scratch(shape, speed_table, counts):
-    """A CPU thread's contract.Scratch of ``shape`` (the warm starts from ``speed_table``, None without one;
-    the outer counts in ``counts``' dtype)."""
+def new_scratch(shape, balls, operating, counts):
+    """A CPU thread's contract.Scratch of ``shape`` for the element set ``balls`` (the warm starts from its
+    speed table, None without one; its own tables with a block's ``operating``, :func:`own_tables`; the outer
+    counts in ``counts``' dtype)."""
+    table, slices = own_tables(balls, operating)
     return Scratch(np.empty((WORK_ROWS, 5)), np.empty((PREDICTOR_ROWS, 5)), np.empty(shape.record),
-                   np.empty(shape.record), np.empty((shape.life_rows, 2)), warm_scratch(speed_table),
-                   np.empty(shape.rows), np.empty(shape.rows, counts.dtype))
+                   np.empty(shape.record), np.empty((shape.life_rows, 2)), warm_scratch(balls.speed_table),
+                   np.empty(shape.rows), np.empty(shape.rows, counts.dtype), table, slices)
 
 
 @njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
@@ -478,7 +539,8 @@ def map_runs(runs, elements, cases, given_load, settings, stop, scratch):
                 slope_known = False
             out.status[i], out.iterations[i], out.residual[i] = operating_point(
                 given_load, inputs[i], warm, out.q[i], out.f[i], out.K[i],
-                at_speed(elements.balls, cases.speeds, i, scratch.spin, not warm), settings, scratch)
+                at_speed(with_operating(elements.balls, cases.operating, i, scratch.table, scratch.slices),
+                         cases.speeds, i, scratch.spin, not warm), settings, scratch)
             write_case(elements, cases, i, given_load, settings, scratch)
 
 
@@ -540,9 +602,13 @@ def passage_sweep(elements, positions, cases, given_load, settings, stop):
     ``positions.speed_tables`` (P, ...) its high-speed tables per position (local defects) or None; outputs
     are (N, P, ...), ``element_loads`` (N, P, n_elements) each element's load where it has rows (else
     (0, 0, 0): not stored). Along the positions of one point each solve starts from the previous position's
-    converged q. ``stop[0] != 0`` ends the sweep early, as in map_sweep.
+    converged q. ``stop[0] != 0`` ends the sweep early, as in map_sweep. Its cases are the bearing as its
+    tables hold it (``cases.operating`` None).
     """
-    passage_groups(elements.balls, tuple(elements[1:]), positions, tuple(cases[:3]), cases.results,
+    if cases.operating is not None:
+        raise ValueError("cases.operating: a passage table's cases take the bearing's own clearance and preload "
+                         "(None); per-case operating values are for maps and batches")
+    passage_groups(elements.balls, tuple(elements[1:]), positions, tuple(cases[:4]), cases.results,
                    scratch_shape(elements, cases), given_load, settings, stop)
 
 
@@ -554,8 +620,8 @@ def passage_groups(balls, tables, positions, arrays, results, shape, given_load,
     groups = min(n_points, MAP_GROUPS)
     for g in prange(groups):
         elements = Elements(balls, tables[0], tables[1], tables[2])
-        cases = CaseBlock(arrays[0], arrays[1], arrays[2], results)
-        scratch = new_scratch(shape, balls.speed_table, results.n_loaded)
+        cases = CaseBlock(arrays[0], arrays[1], arrays[2], arrays[3], results)
+        scratch = new_scratch(shape, balls, None, results.n_loaded)  # a passage table's cases: the bearing's own
         for i in range(g, n_points, groups):
             if stop_requested(stop):
                 break

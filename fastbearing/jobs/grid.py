@@ -75,11 +75,15 @@ class CaseSet:
     #: Shaft speed in rpm: an axis placed before the load axes (grids), or a table's sixth column
     #: (``table`` (N, 6)); None: no speed (the quasi-static model, and no speed coordinate in the file).
     speed: Axis | None = None
+    #: Operating conditions that vary the bearing, before the speed axis (grids only): temperatures in deg C
+    #: named as [bearing.mounting]'s keys (model.mounted.CASE_TEMPERATURES). Not in :meth:`inputs`: each case's
+    #: values come from :meth:`condition_values`.
+    conditions: tuple[Axis, ...] = ()
 
     @property
     def all_axes(self) -> tuple[Axis, ...]:
-        """The speed axis (when given), then the five inputs: the order of the grid's dimensions."""
-        return ((self.speed,) if self.speed is not None else ()) + self.axes
+        """The conditions, the speed axis (when given), then the five inputs: the order of the grid's dimensions."""
+        return self.conditions + ((self.speed,) if self.speed is not None else ()) + self.axes
 
     @property
     def has_speed(self) -> bool:
@@ -132,14 +136,24 @@ class CaseSet:
         out = np.empty((stop - start, 6 if self.speed is not None else 5))
         index = np.unravel_index(np.arange(start, stop), self.shape) if self.dims else ()
         k = 0
-        columns = ([5] if self.speed is not None else []) + list(range(5))
+        columns = [None] * len(self.conditions) + ([5] if self.speed is not None else []) + list(range(5))
         for d, axis in zip(columns, self.all_axes):
             if axis.is_dim:
-                out[:, d] = axis.values[index[k]]
+                if d is not None:
+                    out[:, d] = axis.values[index[k]]
                 k += 1
-            else:
+            elif d is not None:
                 out[:, d] = axis.values[0]
         return out
+
+    def condition_values(self, start: int, stop: int) -> dict[str, np.ndarray]:
+        """Each condition's (stop - start,) values (deg C) over the flat case range, C order over the grid."""
+        if not self.conditions:
+            return {}
+        index = np.unravel_index(np.arange(start, stop), self.shape)
+        dims = [a.name for a in self.dims]
+        return {a.name: (a.values[index[dims.index(a.name)]] if a.is_dim else np.full(stop - start, a.values[0]))
+                for a in self.conditions}
 
 
 #: The columns of a case table, with units: the five loads (or displacements) and the shaft speed.

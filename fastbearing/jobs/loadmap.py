@@ -9,7 +9,7 @@ Units: N, mm, rad.
 from __future__ import annotations
 
 import hashlib
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import partial
 from pathlib import Path
 
@@ -20,24 +20,25 @@ from . import runner as jobs
 from . import storage
 
 from .. import validate
-from ..api import solver_settings
+from ..api import case_operating, solver_settings
 from ..model.bearing import Bearing, check_speed, check_speed_model
-from ..model.mounted import operating_attributes, operating_bearing, refuse_speed_cases
+from ..model.mounted import CASE_TEMPERATURES, operating_attributes, operating_bearing
 from ..model.bearing_file import read_job_config
 from .. import boundary
-from ..dofs import AXES, UNITS
+from ..dofs import AXES, TEMPERATURE_UNITS, UNITS
 from .grid import Axis, CaseSet, check_fixed_axes, fixed_mask, input_axes, parse_axis, read_case_file, segment_starts
 from .runner import open_dataset  # noqa: F401 (public: fb.open_dataset)
 from ..analysis.life import LifeSettings, iso_life, life_table, rating_sources, ratings
 from ..engine.contract import CaseBlock, Elements, Results
 from ..engine.sweep import map_sweep
+from .. import status as st
 from ..engine.device import DEVICES, require_cuda
 
 DEFAULT_CHUNK = 65536
 #: Largest block: one block's results are in memory at once (about 400 bytes a case).
 MAX_CHUNK = 4_000_000
 _LOADMAP_KEYS = {"given", "cases", "chunk", "compression", "method", "rtol", "max_iter", "life", "speed", "fixed",
-                 "variables", "dtype"}
+                 "variables", "dtype"} | set(CASE_TEMPERATURES)
 
 
 @dataclass(frozen=True)
@@ -62,6 +63,9 @@ class LoadMapConfig:
     dtype: str = "float64"
     #: A bearing with [bearing.mounting]: its operating clearance and preload as file attributes (mm, rpm).
     operating: dict = field(default_factory=dict)
+    #: The mounted bearing when the cases vary it (several speeds, temperature axes): each case then gets its
+    #: own operating clearance and preload (the map's ``bearing`` is the same bearing unmounted); else None.
+    mounted: Bearing | None = None
 
 
 def read_life(spec, where: str) -> LifeSettings | None:
@@ -105,6 +109,7 @@ def read_config(config) -> LoadMapConfig:
             raise ValueError("loadmap.fixed goes with grid axes (a case table holds loads only); give the fixed "
                              "values in [loadmap] fixed, each a number or an axis")
         axes_given = [k for k in spec if k in names or k == "speed"]
+        axes_given += [k for k in spec if k in CASE_TEMPERATURES]
         if axes_given:
             raise ValueError(f"loadmap.cases replaces the grid axes; remove {axes_given}")
         if not isinstance(spec["cases"], str):
@@ -124,16 +129,19 @@ def read_config(config) -> LoadMapConfig:
             for i, v in enumerate(values):
                 check_speed(v, f"loadmap.speed[{i}]" if is_dim else "loadmap.speed")
             speed = Axis("speed", values, "rpm", is_dim)
-        cases = CaseSet(given, axes=tuple(axes), speed=speed)
+        cases = CaseSet(given, axes=tuple(axes), speed=speed, conditions=condition_axes(bearing, spec))
     cases.check_size("loadmap")
     operating_attrs = {}
+    mounted = None
     if bearing.mounting is not None:
-        # the operating clearance varies with speed: one speed per run until maps vary the bearing per case
         speeds = (cases.table[:, 5] if cases.table is not None and cases.table.shape[1] == 6
                   else cases.speed.values if cases.speed is not None else [0.0])
-        rpm = refuse_speed_cases(bearing, speeds, "loadmap.speed" if cases.table is None else "loadmap.cases")
-        bearing, budget = operating_bearing(bearing, rpm)
-        operating_attrs = operating_attributes(budget)
+        if cases.conditions or np.unique(speeds).size > 1:
+            # the cases vary the bearing: each its own operating clearance and preload (compute_block)
+            mounted, bearing = bearing, replace(bearing, mounting=None)
+        else:
+            bearing, budget = operating_bearing(bearing, float(speeds[0]))
+            operating_attrs = operating_attributes(budget)
     if cases.max_speed > 0:
         try:
             check_speed_model(bearing, cases.max_speed)
@@ -151,13 +159,39 @@ def read_config(config) -> LoadMapConfig:
         stored = tuple(dict.fromkeys(names_given))    # checked against the map's variables by job()
     dtype = validate.choice(spec.get("dtype", "float64"), "loadmap.dtype", jobs.RESULT_DTYPES)
     return LoadMapConfig(bearing, cases, chunk, compression, method, rtol, max_iter, text, source,
-                         digest.hexdigest(), life_settings, fixed, stored, dtype, operating_attrs)
+                         digest.hexdigest(), life_settings, fixed, stored, dtype, operating_attrs, mounted)
+
+
+def condition_axes(bearing, spec: dict) -> tuple[Axis, ...]:
+    """The temperature axes of a ``[loadmap]`` (keys of model.mounted.CASE_TEMPERATURES, deg C, each a number
+    or an axis), in that order; they need ``[bearing.mounting]``. ValueError naming the field."""
+    keys = [k for k in CASE_TEMPERATURES if k in spec]
+    if keys and bearing.mounting is None:
+        raise validate.FieldError(f"loadmap.{keys[0]}", "needs [bearing.mounting] (fits, materials): a temperature "
+                                  "acts on the bearing through its mounting", show_value=False)
+    out = []
+    for key in keys:
+        values, is_dim = parse_axis(key, spec[key], "loadmap")
+        for i, v in enumerate(values):
+            validate.number(v, f"loadmap.{key}[{i}]" if is_dim else f"loadmap.{key}", low=-273.15,
+                            units="deg C (absolute zero)")
+        out.append(Axis(key, values, TEMPERATURE_UNITS, is_dim))
+    return tuple(out)
+
+
+def operating_variables() -> list:
+    """A map whose cases vary the bearing keeps each case's operating clearance and preload per row."""
+    V = storage.Variable
+    return [V("operating_diametral_clearance", ("row",), "f8", "mm", "operating diametral clearance per row",
+              {"comment": "Pd_op = 2 rL of the case, from its fits, temperatures and speed; nan: outside the model"}),
+            V("operating_axial_preload", ("row",), "f8", "mm", "operating axial preload per row",
+              {"comment": "d0 of the case (pairs and sets: changed by the shaft's and housing's axial growth)"})]
 
 
 
 def compute_block(bearing: Bearing, given_load: bool, line_length: int, settings, life, spinning: bool,
                   inputs: np.ndarray, res: dict, first: int, stop: np.ndarray, device: str = "cpu",
-                  stored=None) -> None:
+                  stored=None, varying=None) -> None:
     """Fill the result arrays ``res`` (one block's, see :func:`variables`) for ``inputs`` (n, 5), the
     flat cases from ``first`` on; ``stop[0] != 0`` (Ctrl-C) ends it early, leaving the block incomplete.
 
@@ -168,17 +202,51 @@ def compute_block(bearing: Bearing, given_load: bool, line_length: int, settings
     (one compiled sweep for the map; a case at 0 rpm is the quasi-static model exactly). ``device`` "cuda": the
     block on the GPU (engine.gpu.map_sweep_cuda: the same kernels and the same records, engine/contract.py), which
     copies back only the ``stored`` variables (None: all) and what the lives need; the others are left as they
-    were in ``res``.
+    were in ``res``. ``varying``: None, or (the mounted bearing, the map's CaseSet) when the cases vary the
+    bearing: each case then runs at its own operating clearance and preload (api.case_operating), stored in
+    ``res``; a case outside the model gets the status outside_model, not a solve.
     """
     elements, cases = block_records(bearing, line_length, life, spinning, inputs, res, first)
+    outside = None
+    if varying is not None:
+        cases, outside = _vary(cases, varying, inputs, res, first)
     if device == "cuda":
         from ..engine.gpu import map_sweep_cuda  # numba.cuda is imported only here
 
         map_sweep_cuda(elements, cases, given_load, settings, stop, wanted_results(stored, life))
     else:
         map_sweep(elements, cases, given_load, settings, stop)
+    if outside is not None:
+        _flag_outside(res, outside)
     if life is not None:
         _iso_lives(res, life[2], inputs[:, 5] if inputs.shape[1] == 6 else None)
+
+
+def _vary(cases: CaseBlock, varying, inputs: np.ndarray, res: dict, first: int):
+    """The block's CaseBlock with each case's operating values (and its inputs nan where a case is outside the
+    model: not solved), and the outside mask (None: none)."""
+    mounted, case_set = varying
+    n = inputs.shape[0]
+    rpm = inputs[:, 5] if inputs.shape[1] == 6 else np.zeros(n)
+    values = case_operating(mounted, n, rpm, temperatures=case_set.condition_values(first, first + n), per_case=True)
+    if "operating_diametral_clearance" in res:
+        res["operating_diametral_clearance"][...] = 2.0 * values.radial_clearance
+        res["operating_axial_preload"][...] = values.axial_preload
+    cases = cases._replace(operating=values.table)
+    if values.outside is not None:
+        cases = cases._replace(inputs=np.where(values.outside[:, None], np.nan, cases.inputs))
+    return cases, values.outside
+
+
+def _flag_outside(res: dict, outside: np.ndarray) -> None:
+    """Cases outside the model: status outside_model, every real result nan (they were not solved)."""
+    for name, a in res.items():
+        if name == "status":
+            a[outside] = st.OUTSIDE_MODEL
+        elif name.startswith("operating_"):
+            continue
+        elif a.dtype.kind == "f":
+            a[outside] = np.nan
 
 
 def block_records(bearing: Bearing, line_length: int, life, spinning: bool, inputs: np.ndarray, res: dict,
@@ -194,7 +262,7 @@ def block_records(bearing: Bearing, line_length: int, life, spinning: bool, inpu
     table, C0 = (np.empty((0, 8)), 0.0) if life is None else life[:2]
     elements = Elements(balls, bearing.element_rows, table, C0)
     segments = segment_starts(first, first + inputs.shape[0], line_length)
-    return elements, CaseBlock(inputs, segments, speeds, map_results(res, bearing.n_rows))
+    return elements, CaseBlock(inputs, segments, speeds, None, map_results(res, bearing.n_rows))
 
 
 #: The engine's Results field of each map variable (the file's names are the engineer's, the record's short).
@@ -257,6 +325,13 @@ def job(cfg: LoadMapConfig, device: str = "cpu") -> jobs.Job:
                                "mm or rad); f holds the reactions there (N, N*mm)")
     if cfg.cases.max_speed > 0 and not cfg.bearing.roller_rows:
         variables += storage.outer_angle_variables()
+    varying = None
+    if cfg.mounted is not None:
+        variables += operating_variables()
+        varying = (cfg.mounted, cfg.cases)
+        attrs["operating_note"] = ("each case runs at its own operating clearance and preload from [bearing.mounting] "
+                                   "at its speed and temperatures: variables operating_diametral_clearance and "
+                                   "operating_axial_preload (mm)")
     if cfg.life is not None:
         r = ratings(cfg.bearing)
         life = (life_table(r, cfg.life), r.C0 if r.C0 is not None else float("nan"), r)
@@ -273,7 +348,7 @@ def job(cfg: LoadMapConfig, device: str = "cpu") -> jobs.Job:
         variables=tuple(variables), attrs=attrs,
         sizes={"dof": 5, "dof_col": 5, "row": cfg.bearing.n_rows},
         compute=partial(compute_block, cfg.bearing, given_load, cfg.cases.line_length, settings, life,
-                        cfg.cases.max_speed > 0, device=device, stored=stored),
+                        cfg.cases.max_speed > 0, device=device, stored=stored, varying=varying),
         settings=settings, method=cfg.method, chunk=cfg.chunk, text=cfg.text, source=cfg.source,
         fingerprint=cfg.fingerprint, compression=cfg.compression, line_length=cfg.cases.line_length,
         kernel="engine.gpu.map_sweep_cuda" if device == "cuda" else "engine.sweep.map_sweep",

@@ -587,6 +587,21 @@ class Hdf5Store:
         finish(self.part, self.out, compression, blocks, attrs, variables)
 
 
+def add_file_attributes(output, attrs: dict) -> None:
+    """Add attributes to a finished result (an HDF5 file, or a zarr store: its root group; consolidated
+    metadata is written again), e.g. a summary computed from the whole file. Repeating it is harmless."""
+    from .zarr_store import is_zarr_location
+
+    if is_zarr_location(output):
+        from .zarr_store import add_attributes
+
+        add_attributes(output, attrs)
+        return
+    with h5py.File(output, "r+") as fh:
+        for k, v in attrs.items():
+            fh.attrs[k] = v
+
+
 def store_for(output):
     """The store an output names: a zarr store for ``*.zarr`` and URLs, else an HDF5 file."""
     from .zarr_store import ZarrStore, is_zarr_location

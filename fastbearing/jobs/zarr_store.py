@@ -375,6 +375,16 @@ class ZarrStore:
         final.pop(CREATED, None)                     # bookkeeping, as the HDF5 file drops its own
 
 
+def add_attributes(where, attrs: dict) -> None:
+    """Add attributes to a finished store's root group and consolidate its metadata again (storage.add_file_attributes)."""
+    zarr = require_zarr()
+    where = str(where)
+    zarr.open_group(store=where, mode="r+", zarr_format=3).attrs.update({k: _jsonable(v) for k, v in attrs.items()})
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        zarr.consolidate_metadata(where)
+
+
 class ZarrPart:
     """An open unfinished store: write blocks (data, then the block's status counts), read what is done."""
 

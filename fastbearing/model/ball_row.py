@@ -10,6 +10,8 @@ import sys
 import warnings
 from dataclasses import dataclass
 
+import numpy as np
+
 from .. import validate
 
 #: Most balls a row may have (a sanity bound: real bearings have a few dozen).
@@ -224,6 +226,35 @@ class Row:
         a0 = math.radians(self.contact_angle)
         return math.atan2(self.groove_center_distance * math.sin(a0) + self.axial_preload,
                           self.groove_center_distance * math.cos(a0) - self.radial_clearance)
+
+    def groove_separations(self, radial_clearance, axial_preload):
+        """(ur0, uz0, A^2 - A0^2 at q = 0) in mm, mm, mm^2 for a radial clearance rL and an axial preload d0
+        (mm; floats or arrays): the ball table's UR0, UZ0 and GAP2, by one expression for the bearing's own
+        table and a case's own values (:meth:`operating_columns`), so that both give the same bits.
+        The gap in closed form (exactly 0 without clearance and preload): the kernel gets A^2 - A0^2 without
+        cancellation."""
+        A0, a0, s = self.groove_center_distance, math.radians(self.contact_angle), self.contact_direction
+        rl, d0 = radial_clearance, axial_preload
+        ur0 = A0 * math.cos(a0) - rl
+        uz0 = s * (A0 * math.sin(a0) + d0)
+        gap2 = -2.0 * A0 * rl * math.cos(a0) + rl * rl + 2.0 * A0 * d0 * math.sin(a0) + d0 * d0
+        return ur0, uz0, gap2
+
+    def operating_columns(self, radial_clearance, axial_preload) -> np.ndarray:
+        """(n, schema.N_OPERATING) float64: the table's UR0, UZ0, GAP2 for each case's rL and d0 ((n,) arrays,
+        mm; bearing.Bearing.operating_table)."""
+        ur0, uz0, gap2 = self.groove_separations(np.asarray(radial_clearance, float), np.asarray(axial_preload, float))
+        return np.stack(np.broadcast_arrays(ur0, uz0, gap2), axis=1)
+
+    def in_model_range(self, radial_clearance, axial_preload) -> np.ndarray:
+        """(n,) bool: where rL and d0 ((n,) arrays, mm) pass the row's own checks
+        (:meth:`_check_clearance_and_preload`), vectorised."""
+        A0, a0 = self.groove_center_distance, math.radians(self.contact_angle)
+        rL, d0 = np.asarray(radial_clearance, float), np.asarray(axial_preload, float)
+        radial, axial = A0 * math.cos(a0), A0 * math.sin(a0)
+        with np.errstate(invalid="ignore"):
+            return (np.isfinite(rL) & np.isfinite(d0) & (rL < radial) & (d0 >= -axial) & ~((d0 != 0) & (rL > 0))
+                    & ~(np.hypot(radial - rL, axial + d0) - A0 > PRELOAD_DEFLECTION_LIMIT * A0))
 
     def _check_clearance_and_preload(self) -> None:
         """Keep the groove centres where the model holds (docs/model.md, "Per ball (row r, ball j at azimuth psi)"):

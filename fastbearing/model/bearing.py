@@ -19,7 +19,7 @@ from .. import validate
 # the ball table's layout, re-exported where the table is built
 from ..engine.schema import (A0, AXIAL_OFFSET, BALL_OF, COS_NOMINAL, COS_PSI, DEFLECTION_LIMIT, DIRECTION, EXPONENT,  # noqa: F401
                      GAMMA, GAP2, HALF_COUNT, KN, MASS_RADIUS, MIRROR_HALF, MIRROR_OF, N_BALL_COLUMNS, N_BALL_FIELDS,
-                     N_SPEED_COLUMNS, OUTER_ROTATES, PARTNER, PITCH_RADIUS, ROW, SHARE, SIN_PSI, UR0, UZ0, WEIGHT,
+                     N_OPERATING, N_SPEED_COLUMNS, OUTER_ROTATES, PARTNER, PITCH_RADIUS, ROW, SHARE, SIN_PSI, UR0, UZ0, WEIGHT,
                      ElementSet)
 from .ball_row import (MAX_BALLS, PRELOAD_DEFLECTION_LIMIT, VALIDITY_DEFLECTION, Row, _check_finite,  # noqa: F401
                        free_contact_angle)
@@ -413,30 +413,45 @@ class Bearing:
         azimuths = self._ball_azimuths(cage_angle)
         k = 0
         for (i, r), psi in zip(self.ball_rows, azimuths):
-            a0 = math.radians(r.contact_angle)
             sl = slice(k, k + r.n_balls)
             table[COS_PSI, sl] = np.cos(psi)
             table[SIN_PSI, sl] = np.sin(psi)
             table[AXIAL_OFFSET, sl] = r.axial_offset
             table[PITCH_RADIUS, sl] = r.pitch_radius
-            table[UR0, sl] = r.groove_center_distance * math.cos(a0) - r.radial_clearance
-            table[UZ0, sl] = r.contact_direction * (r.groove_center_distance * math.sin(a0) + r.axial_preload)
+            table[UR0, sl], table[UZ0, sl], table[GAP2, sl] = r.groove_separations(r.radial_clearance,
+                                                                                  r.axial_preload)
             table[A0, sl] = r.groove_center_distance
             table[KN, sl] = r.hertz_constant
             table[EXPONENT, sl] = r.exponent
             table[ROW, sl] = i
             table[DIRECTION, sl] = r.contact_direction
             table[DEFLECTION_LIMIT, sl] = r.validity_deflection
-            # ur0^2 + uz0^2 - A0^2 in closed form (exactly 0 without clearance and preload),
-            # so the kernel gets A^2 - A0^2 without cancellation
-            rl, d0 = r.radial_clearance, r.axial_preload
-            table[GAP2, sl] = (-2.0 * r.groove_center_distance * rl * math.cos(a0) + rl * rl
-                               + 2.0 * r.groove_center_distance * d0 * math.sin(a0) + d0 * d0)
             k += r.n_balls
         table[WEIGHT] = 1.0
         table[SHARE] = 1.0
         _fill_mirror_half(table, azimuths)
         return table
+
+    def operating_table(self, radial_clearance, axial_preload) -> tuple[np.ndarray, np.ndarray]:
+        """Each case's own operating clearance and preload as the kernels take them (contract.CaseBlock.operating).
+
+        ``radial_clearance`` rL and ``axial_preload`` d0: (N, n_rows) mm, each row's values in each case (a ball
+        row's as Row's fields, a roller row's as RollerRow's). Returns (operating, valid): operating (N, n_rows,
+        schema.N_OPERATING) float64, what each row's element kind sets in its tables (Row.operating_columns,
+        RollerRow.operating_columns: the same expressions as the bearing's own tables, so a case with the
+        bearing's own rL and d0 gives its results bit for bit); valid (N,) bool, False where a row's values
+        fail its own checks (Row.in_model_range): such a case is not the model's and must not be solved."""
+        rL = np.asarray(radial_clearance, dtype=float)
+        d0 = np.asarray(axial_preload, dtype=float)
+        if rL.ndim != 2 or rL.shape[1] != self.n_rows or d0.shape != rL.shape:
+            raise ValueError(f"radial_clearance and axial_preload must be (N, {self.n_rows}) arrays in mm (one "
+                             f"column per bearing row), got {rL.shape} and {d0.shape}")
+        operating = np.empty((rL.shape[0], self.n_rows, N_OPERATING))
+        valid = np.ones(rL.shape[0], dtype=bool)
+        for i, r in enumerate(self.rows):
+            operating[:, i] = r.operating_columns(rL[:, i], d0[:, i])
+            valid &= r.in_model_range(rL[:, i], d0[:, i])
+        return operating, valid
 
     def _ball_azimuths(self, cage_angle: float) -> list[np.ndarray]:
         """Each ball row's azimuths psi (rad), as the table places them."""

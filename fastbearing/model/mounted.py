@@ -240,16 +240,7 @@ def operating_bearing(bearing, speed: float = 0.0):
                          "diametral_clearance instead of the rows')", show_value=False)
     mounted = _mount(mounting, geometry, speed)
     Pd_op = mounted.operating_diametral_clearance
-    T0 = mounting.assembly_temperature
-    Ti = mounting.inner_ring_temperature if mounting.inner_ring_temperature is not None else T0
-    To = mounting.outer_ring_temperature if mounting.outer_ring_temperature is not None else T0
-    Ts = mounting.shaft_temperature if mounting.shaft_temperature is not None else Ti
-    Th = mounting.housing_temperature if mounting.housing_temperature is not None else To
-    eps_i = mounting.shaft_material.thermal_expansion * (Ts - T0)
-    eps_o = mounting.housing_material.thermal_expansion * (Th - T0)
-    changes = (axial_preload_changes([r.axial_offset for r in bearing.rows],
-                                     [r.contact_direction for r in bearing.rows],
-                                     inner_side_strain=eps_i, outer_side_strain=eps_o) if n > 1 else (0.0,))
+    changes = preload_shifts(bearing)
     notes = list(mounted.notes)
     if Pd_op > 0.0 and any(c != 0.0 for c in changes):
         # Row takes an axial preload only at zero or negative clearance: the rows' axial shift changes their
@@ -291,6 +282,24 @@ def operating_bearing(bearing, speed: float = 0.0):
     return operating, budget
 
 
+def preload_shifts(bearing) -> tuple:
+    """Each row's axial preload change (mm) from the inner side's (shaft, at the shaft temperature) and the
+    outer side's (housing) axial growth between the rows (model.mounting.axial_preload_changes; (0.0,) for a
+    single row). It applies where the operating clearance is <= 0 (:func:`operating_bearing`)."""
+    mounting = bearing.mounting
+    if bearing.n_rows == 1:
+        return (0.0,)
+    T0 = mounting.assembly_temperature
+    Ti = mounting.inner_ring_temperature if mounting.inner_ring_temperature is not None else T0
+    To = mounting.outer_ring_temperature if mounting.outer_ring_temperature is not None else T0
+    Ts = mounting.shaft_temperature if mounting.shaft_temperature is not None else Ti
+    Th = mounting.housing_temperature if mounting.housing_temperature is not None else To
+    eps_i = mounting.shaft_material.thermal_expansion * (Ts - T0)
+    eps_o = mounting.housing_material.thermal_expansion * (Th - T0)
+    return tuple(axial_preload_changes([r.axial_offset for r in bearing.rows], [r.contact_direction for r in bearing.rows],
+                                       inner_side_strain=eps_i, outer_side_strain=eps_o))
+
+
 def _range_text(mounting: Mounting) -> str:
     lo, hi = mounting.clearance_range
     group = f"{mounting.clearance_group} " if mounting.clearance_group else ""
@@ -322,15 +331,62 @@ def _cached(bearing, speed):
 
 
 def refuse_speed_cases(bearing, speeds, what: str = "speed") -> float:
-    """The one speed (rpm) of a mounted bearing's cases, or a ValueError: per-case operating clearance is not
-    built yet (issue 44 items 5 and 6)."""
+    """The one speed (rpm) of a mounted bearing's cases, or a ValueError, where a path takes one operating
+    bearing for all its cases (stiffness_many; solve_many and load maps take each case's own: operating_rows)."""
     import numpy as np
 
     values = np.unique(np.asarray(speeds, dtype=float).ravel())
     if values.size > 1:
-        raise ValueError(f"{what}: several speeds on a bearing with [bearing.mounting] are not supported yet (the "
-                         "operating clearance varies with speed); run one speed per run")
+        raise ValueError(f"{what}: several speeds on a bearing with [bearing.mounting] are not supported here (the "
+                         "operating clearance varies with speed); run one speed per call, or use solve_many or a "
+                         "load map, which take each case's own operating clearance")
     return float(values[0]) if values.size else 0.0
+
+
+#: The temperatures a case may set (deg C), as ``[bearing.mounting]`` names them.
+CASE_TEMPERATURES = _TEMPERATURES + ("assembly_temperature",)
+
+
+def operating_rows(bearing, speeds, temperatures=None):
+    """Each case's operating clearance and preload: (rL, d0, notes) for a mounted bearing's cases at ``speeds``
+    ((N,) rpm) and, optionally, ``temperatures`` {key: (N,) deg C} in place of ``[bearing.mounting]``'s (keys
+    of :data:`CASE_TEMPERATURES`). rL and d0 are (N, n_rows) mm, each row's radial clearance (Pd_op / 2) and
+    axial preload as :func:`operating_bearing` gives them; NaN in a case whose operating bearing is outside
+    the model's range (that case is flagged, not solved: api.solve_many, the jobs). ``notes``: the distinct
+    notes and warnings of the mounts (fits lost, hoop stress), each once. One mount per distinct
+    (speed, temperatures): a map's axes repeat them."""
+    import warnings
+
+    import numpy as np
+
+    speeds = np.asarray(speeds, dtype=float).ravel()
+    n = speeds.shape[0]
+    keys = sorted(temperatures or {})
+    for key in keys:
+        if key not in CASE_TEMPERATURES:
+            raise FieldError("temperatures", f"may set {', '.join(CASE_TEMPERATURES)} (deg C); got {key!r}",
+                             show_value=False)
+    columns = [speeds] + [np.broadcast_to(np.asarray(temperatures[k], dtype=float).ravel(), (n,)) for k in keys]
+    combos, inverse = np.unique(np.stack(columns, axis=1), axis=0, return_inverse=True)
+    rL = np.full((len(combos), bearing.n_rows), np.nan)
+    d0 = np.full((len(combos), bearing.n_rows), np.nan)
+    notes = []
+    for c, combo in enumerate(combos):
+        case = bearing
+        if keys:
+            case = replace(bearing, mounting=replace(bearing.mounting, **dict(zip(keys, map(float, combo[1:])))))
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            try:
+                op, budget = operating_bearing(case, float(combo[0]))
+            except FieldError as err:
+                notes.append(str(err))
+                continue
+        notes += [str(w.message) for w in caught] + list(budget["notes"] if budget else ())
+        rL[c] = [r.radial_clearance for r in op.rows]
+        d0[c] = [r.axial_preload for r in op.rows]
+    inverse = inverse.ravel()
+    return rL[inverse], d0[inverse], list(dict.fromkeys(notes))
 
 
 def operating_attributes(budget: dict) -> dict:

@@ -30,8 +30,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import validate
-from ..engine.schema import (N_SLICE_COLUMNS, S_ANGLE, S_AXIAL, S_COS_PSI, S_COUNT, S_NORMAL_R, S_NORMAL_Z,  # noqa: F401
-                     S_OFFSET, S_POSITION, S_RADIUS, S_ROLLER, S_ROW, S_SCALE, S_SIN_PSI, S_STIFFNESS)
+from ..engine.schema import (N_OPERATING, N_SLICE_COLUMNS, OP_APPROACH, S_ANGLE, S_AXIAL, S_COS_PSI, S_COUNT, S_NORMAL_R, S_NORMAL_Z,  # noqa: F401
+                     S_CROWN, S_OFFSET, S_POSITION, S_RADIUS, S_ROLLER, S_ROW, S_SCALE, S_SIN_PSI, S_STIFFNESS)
 
 ELEMENTS = ("ball", "cylindrical_roller", "tapered_roller")
 ROLLER_ELEMENTS = ELEMENTS[1:]
@@ -209,8 +209,29 @@ class RollerRow:
     @property
     def unloaded_approach(self) -> float:
         """d0 sin(a) - rL cos(a) in mm: the approach of every roller's middle at q = 0 (> 0: preloaded)."""
+        return float(self.approach_at(self.radial_clearance, self.axial_preload))
+
+    def approach_at(self, radial_clearance, axial_preload):
+        """d0 sin(a) - rL cos(a) in mm for a radial clearance rL and an axial preload d0 (mm; floats or arrays):
+        the one expression the slice table and a case's own values (:meth:`operating_columns`) share."""
         a = math.radians(self.contact_angle)
-        return self.axial_preload * math.sin(a) - self.radial_clearance * math.cos(a)
+        return axial_preload * math.sin(a) - radial_clearance * math.cos(a)
+
+    def operating_columns(self, radial_clearance, axial_preload) -> np.ndarray:
+        """(n, schema.N_OPERATING) float64: what rL and d0 ((n,) arrays, mm) set in the kernel's tables for each
+        case (schema OP_APPROACH: the unloaded approach; bearing.Bearing.operating_table)."""
+        out = np.zeros((np.shape(radial_clearance)[0], N_OPERATING))
+        out[:, OP_APPROACH] = self.approach_at(np.asarray(radial_clearance, float), np.asarray(axial_preload, float))
+        return out
+
+    def in_model_range(self, radial_clearance, axial_preload) -> np.ndarray:
+        """(n,) bool: where rL and d0 ((n,) arrays, mm) pass the row's own checks (the unloaded approach at most
+        PRELOAD_APPROACH_LIMIT l; a cylindrical row takes no axial preload)."""
+        rL, d0 = np.asarray(radial_clearance, float), np.asarray(axial_preload, float)
+        ok = np.isfinite(rL) & np.isfinite(d0) & (self.approach_at(rL, d0) <= self.preload_approach_limit)
+        if self.element == "cylindrical_roller":
+            ok &= d0 == 0.0
+        return ok
 
     @property
     def preload_approach_limit(self) -> float:
@@ -282,7 +303,8 @@ def slice_table(rows, first_roller: int, cage_angle: float = 0.0) -> np.ndarray:
         a = math.radians(r.contact_angle)
         s = r.contact_direction
         x = r.slice_positions
-        offset = r.unloaded_approach - r.crown_drop(x)
+        crown = r.crown_drop(x)
+        offset = r.unloaded_approach - crown
         for j in range(r.n_rollers):
             psi = math.radians(r.first_element_angle) + cage_angle + 2.0 * math.pi * j / r.n_rollers
             sl = slice(k, k + r.slices)
@@ -300,6 +322,7 @@ def slice_table(rows, first_roller: int, cage_angle: float = 0.0) -> np.ndarray:
             table[S_SCALE, sl] = r.deflection_scale
             table[S_POSITION, sl] = x
             table[S_COUNT, sl] = r.slices
+            table[S_CROWN, sl] = crown
             k += r.slices
             roller += 1
     return table
