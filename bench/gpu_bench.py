@@ -234,7 +234,7 @@ def print_plan(stages, small):
         n = ARGS.cases or (48 if small else 4_000_000)
         db = fb.Bearing.preset("gunduz2013", "DB")
         shape = np.broadcast_to(np.zeros(()), (n, 5))
-        cases = CaseBlock(shape, np.zeros(0, np.int64), np.zeros(0), None, Solutions(
+        cases = CaseBlock(shape, np.zeros(0, np.int64), np.zeros(0), None, None, Solutions(
             shape, shape, np.broadcast_to(np.zeros(()), (n, 5, 5)), np.broadcast_to(np.zeros((), np.int8), (n,)),
             *(np.broadcast_to(np.zeros((), d), (n,)) for d in (np.int32, np.float64, np.int32))))
         blocks, tpb, device = gpu.solve_plan(db.ball_set(), cases)

@@ -527,7 +527,7 @@ def solve_many(bearing: Bearing, f, q0=None, method: str = "newton", rtol=None, 
     if outside is not None:
         f_targets = f_targets.copy()
         f_targets[outside] = np.nan  # not solved (nonfinite_input at once), then flagged below
-    cases = CaseBlock(f_targets, np.zeros(0, np.int64), speeds, operating, solutions)
+    cases = CaseBlock(f_targets, np.zeros(0, np.int64), speeds, operating, None, solutions)
     if device == "cuda":
         from .engine.gpu import solve_sweep_cuda  # numba.cuda is imported only here
 

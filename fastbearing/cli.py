@@ -670,7 +670,7 @@ def _montecarlo(args) -> int:
     code = _run_job(run, args, device=args.device)
     if code == 0:
         summary = result["summary"]
-        print(json.dumps(summary) if args.json else f"{result['out']}\n{summary_text(summary)}")
+        print(json.dumps(summary) if args.json else summary_text(summary))
     return code
 
 

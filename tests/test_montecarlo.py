@@ -158,3 +158,74 @@ def test_a_bearing_without_mounting_or_zones_is_refused(tmp_path):
 def test_cuda_is_refused_with_a_reason(tmp_path):
     with pytest.raises(ValueError, match="montecarlo: device = 'cuda' is not built yet"):
         mc.montecarlo(config(tmp_path), tmp_path / "x.h5", device="cuda", progress=False)
+
+
+def test_a_dask_run_gives_the_local_file_and_the_job_pickles(tmp_path):
+    import pickle
+
+    distributed = pytest.importorskip("distributed")
+    path = config(tmp_path)
+    job = mc.job(mc.read_config(path))
+    assert pickle.loads(pickle.dumps(job.compute)).args[0] == job.compute.args[0]  # what Dask sends the workers
+    local = _datasets(mc.montecarlo(path, tmp_path / "local.h5", progress=False)[0])
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=2, processes=False, dashboard_address=None) as cluster, \
+            distributed.Client(cluster) as client:
+        remote, summary = mc.montecarlo(path, tmp_path / "dask.h5", progress=False, client=client)
+    remote = _datasets(remote)
+    for k in local:
+        assert np.array_equal(local[k], remote[k], equal_nan=local[k].dtype.kind == "f"), k
+    assert summary["converged"] == 400
+
+
+def test_a_zarr_store_holds_the_samples_and_the_summary(tmp_path):
+    zarr = pytest.importorskip("zarr")
+    path = config(tmp_path, samples=100)
+    local = _datasets(mc.montecarlo(path, tmp_path / "local.h5", progress=False)[0])
+    store, summary = mc.montecarlo(path, tmp_path / "mc.zarr", progress=False)
+    group = zarr.open_group(str(store), mode="r")
+    assert json.loads(group.attrs["summary_json"]) == summary
+    assert np.array_equal(group["operating_diametral_clearance"][...], local["operating_diametral_clearance"])
+    assert np.array_equal(group["K"][...], local["K"])
+
+
+def test_each_ball_takes_its_own_diameter(tmp_path):
+    from fastbearing.engine.kernel import ball_loop
+    from fastbearing.engine.schema import A0, GAP2
+    from fastbearing.model.bearing import without_mirror_half
+
+    case = CASE.replace("speed = 3000.0", "speed = 0.0") + "ball_diameter_variation = 0.002\n"
+    cfg = mc.read_config(config(tmp_path, samples=60, case=case))
+    out, summary = mc.montecarlo(cfg, tmp_path / "balls.h5", progress=False)
+    data = _datasets(out)
+    sizes = data["ball_diameter_deviation"]
+    assert sizes.shape == (60, 9) and np.abs(sizes).max() <= 0.001 and np.ptp(sizes) > 0.0015
+    assert np.array_equal(sizes, draw(cfg.zones, 60, cfg.seed)["ball_diameter_deviation"])
+    assert fb.status.converged_mask(data["status"]).all()
+    op = operating_bearing(cfg.bearing, 0.0)[0]
+    for i in (0, 31, 59):
+        # at each sample's q, a ball table made here from the rule (the groove centres are the rings': a ball
+        # bigger by s has A0 - s) carries the load, with the file's Kb
+        b = op.with_rows(radial_clearance=0.5 * data["operating_diametral_clearance"][i, 0])
+        table = without_mirror_half(b.ball_table()).copy()
+        a0, s = table[A0].copy(), sizes[i]
+        table[A0] = a0 - s
+        table[GAP2] = table[GAP2] + s * (2.0 * a0 - s)
+        f, K = np.empty(5), np.empty((5, 5))
+        ball_loop(data["q"][i], b.ball_set(mirror=False)._replace(balls=table), f, K, None, None)
+        assert np.allclose(f, cfg.loads, rtol=0.0, atol=1e-6 * 2000.0), (i, f)
+        assert np.allclose(K, data["K"][i], rtol=1e-9, atol=1e-9 * np.abs(K).max())
+    # the balls' sizes move the answer: the same samples with nominal balls give another Kb
+    plain = _datasets(mc.montecarlo(config(tmp_path, samples=60, case=case.replace("0.002", "0.0")),
+                                    tmp_path / "plain.h5", progress=False)[0])
+    assert "ball_diameter_deviation" not in plain
+    assert np.array_equal(plain["operating_diametral_clearance"], data["operating_diametral_clearance"])
+    assert not np.allclose(plain["K"], data["K"], rtol=1e-4)
+
+
+@pytest.mark.parametrize("case, message", [
+    (CASE + "ball_diameter_variation = 0.001\n", r"ball_diameter_variation needs speed = 0"),
+    (CASE + "ball_diameter_variation = -0.001\n", r"montecarlo.ball_diameter_variation must be >= 0"),
+])
+def test_ball_diameter_variation_refusals(tmp_path, case, message):
+    with pytest.raises(ValueError, match=message):
+        mc.read_config(config(tmp_path, case=case))

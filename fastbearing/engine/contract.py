@@ -30,9 +30,10 @@ Elements = namedtuple("Elements", "balls ball_row life C0")
 #: speed per case (rad/s), empty for a quasi-static block; ``operating`` None (every case the bearing as its
 #: tables hold it) or (N, rows, schema.N_OPERATING) float64, each case's own operating clearance and preload
 #: per row as the tables take them (bearing.Bearing.operating_table; written into a thread's own copy of the
-#: tables where the case's element set is made, sweep.with_operating); ``results`` the block's outputs.
-#: Per-case bearing values join here, beside ``speeds`` and ``operating``.
-CaseBlock = namedtuple("CaseBlock", "inputs segments speeds operating results")
+#: tables where the case's element set is made, sweep.with_operating); ``ball_sizes`` None or (N, n_balls)
+#: float64, each ball's diameter minus the nominal in each case (mm; with ``operating``, on a ball table without
+#: its mirror half); ``results`` the block's outputs. Per-case bearing values join here, beside ``speeds``.
+CaseBlock = namedtuple("CaseBlock", "inputs segments speeds operating ball_sizes results")
 
 #: A map's outputs, leading dim the block's cases: q (N, 5) mm, rad; f (N, 5) N, N*mm; K (N, 5, 5) N/mm,
 #: N*mm/rad, N/rad; status int8; iterations int32; residual (relative); per row (N, rows): max_load (N),

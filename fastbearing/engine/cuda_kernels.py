@@ -91,8 +91,9 @@ def thread_scratch(work, predictor, rows, t, spin):
 
 @njit(inline="always")
 def case_block(cases):
-    """The kernels' CaseBlock from its device form: ``operating`` None again where it is contract.ABSENT."""
-    return CaseBlock(cases.inputs, cases.segments, cases.speeds, present(cases.operating), cases.results)
+    """The kernels' CaseBlock from its device form: ``operating``, ``ball_sizes`` None again where ABSENT."""
+    return CaseBlock(cases.inputs, cases.segments, cases.speeds, present(cases.operating), present(cases.ball_sizes),
+                     cases.results)
 
 
 @njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)

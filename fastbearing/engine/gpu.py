@@ -199,11 +199,11 @@ def warm_starts(balls: ElementSet, n_threads: int) -> np.ndarray:
 
 def _inputs(mem, cases: CaseBlock, results):
     """``cases`` with its inputs, segments and speeds copied into ``mem`` and ``results`` in place of its own."""
-    if cases.operating is not None:
+    if cases.operating is not None or cases.ball_sizes is not None:
         raise ValueError("device='cuda': cases with their own operating clearance and preload (a mounted bearing "
                          "over temperatures or speeds, montecarlo) run on the CPU for now; use device='cpu'")
     return CaseBlock(mem.data(cases.inputs), mem.data(cases.segments), mem.data(np.asarray(cases.speeds, np.float64)),
-                     ABSENT, results)
+                     ABSENT, ABSENT, results)
 
 
 def _outputs(mem, results):

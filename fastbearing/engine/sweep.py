@@ -16,7 +16,7 @@ from ..config import CACHE, ERROR_MODEL, REFCOUNT
 from .kernel import at_position, ball_loop, forget_warm, warm_scratch
 from .linalg import stiffness_solve
 from .roots import cube_root
-from .schema import (GAP2, HALF_COUNT, MIRROR_HALF, OP_APPROACH, OP_GAP2, OP_UR0, OP_UZ0, ROW, S_CROWN,
+from .schema import (A0, GAP2, HALF_COUNT, MIRROR_HALF, OP_APPROACH, OP_GAP2, OP_UR0, OP_UZ0, ROW, S_CROWN,
                      S_OFFSET, S_ROW, UR0, UZ0)
 from .schema import LIFE_CE, LIFE_CI, LIFE_FIRST, LIFE_INNER, LIFE_SLICES, LIFE_X0, LIFE_Y0, LIFE_Z
 from .solver import WORK_ROWS, solve_case, with_warnings
@@ -68,34 +68,48 @@ def _at_speed(balls, speeds, i, warm, fresh):
     return spinning
 
 
-def with_operating(balls, operating, i, table, slices):
+def with_operating(balls, cases, i, table, slices):
     """The element set of case i with its own operating clearance and preload: ``balls`` itself when
-    ``operating`` is None (chosen while typing: no code for it), else ``balls`` with the thread's own copies
-    ``table`` and ``slices`` (of balls.balls and balls.slices; slices None without roller rows) holding row by
-    row ``operating[i]`` (contract.CaseBlock.operating; :func:`set_operating`)."""
+    ``cases.operating`` is None (chosen while typing: no code for it), else ``balls`` with the thread's own
+    copies ``table`` and ``slices`` (of balls.balls and balls.slices; slices None without roller rows) holding
+    row by row ``cases.operating[i]`` and, with ``cases.ball_sizes``, each ball's own diameter (contract.CaseBlock;
+    :func:`set_operating`)."""
 
 
 @overload(with_operating, inline="always")
-def _with_operating(balls, operating, i, table, slices):
-    if isinstance(operating, types.NoneType):
-        return lambda balls, operating, i, table, slices: balls
+def _with_operating(balls, cases, i, table, slices):
+    if isinstance(cases.types[cases.fields.index("operating")], types.NoneType):
+        return lambda balls, cases, i, table, slices: balls
+    if isinstance(cases.types[cases.fields.index("ball_sizes")], types.NoneType):
+        def own(balls, cases, i, table, slices):
+            set_operating(cases.operating[i], None, balls.balls, table, slices)
+            return at_position(balls, table, slices, balls.omega, balls.warm, balls.speed_table)
+        return own
 
-    def own(balls, operating, i, table, slices):
-        set_operating(operating[i], table, slices)
+    def own_sizes(balls, cases, i, table, slices):
+        set_operating(cases.operating[i], cases.ball_sizes[i], balls.balls, table, slices)
         return at_position(balls, table, slices, balls.omega, balls.warm, balls.speed_table)
-    return own
+    return own_sizes
 
 
 @njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
-def set_operating(rows, table, slices):
+def set_operating(rows, sizes, base, table, slices):
     """Write one case's operating values ``rows`` (n_rows, schema.N_OPERATING; bearing.Bearing.operating_table)
     into a ball table (its UR0, UZ0, GAP2, the mirror half's too) and a slice table (None without roller rows:
-    S_OFFSET = the row's unloaded approach - the slice's crown drop, as rollers.slice_table sets it)."""
+    S_OFFSET = the row's unloaded approach - the slice's crown drop, as rollers.slice_table sets it).
+    ``sizes`` None, or each ball's diameter minus the nominal (mm; a table without its mirror half): the groove
+    curvature centres are the rings', so a ball bigger by s has A0 - s (the shared table ``base`` holds A0) and
+    A^2 - A0^2 at q = 0 grows by s (2 A0 - s), as a defect's depth changes them (model/defects.py)."""
     for j in range(table.shape[1]):
         r = int(table[ROW, j])
         table[UR0, j] = rows[r, OP_UR0]
         table[UZ0, j] = rows[r, OP_UZ0]
         table[GAP2, j] = rows[r, OP_GAP2]
+    if sizes is not None:
+        for j in range(table.shape[1]):
+            s = sizes[j]
+            table[A0, j] = base[A0, j] - s
+            table[GAP2, j] += s * (2.0 * base[A0, j] - s)
     half = int(table[HALF_COUNT, 0]) if table.shape[1] > 0 else 0
     for c in range(half):
         r = int(table[MIRROR_HALF + ROW, c])
@@ -137,22 +151,22 @@ def solve_sweep(balls, cases, settings, warm, block):
     holds warm starts when ``warm``; with a spinning ball set, case i runs at ``cases.speeds[i]`` rad/s
     (:func:`at_speed`), and with ``cases.operating`` at its own clearance and preload (:func:`with_operating`).
     Blocks of ``block`` cases, each with its own scratch."""
-    solve_blocks(balls, tuple(cases[:4]), cases.results, settings, warm, block)
+    solve_blocks(balls, tuple(cases[:5]), cases.results, settings, warm, block)
 
 
 @njit(parallel=True, cache=CACHE, error_model=ERROR_MODEL)
 def solve_blocks(balls, arrays, results, settings, warm, block):
     """:func:`solve_sweep`'s parallel loop over blocks (``arrays``: the CaseBlock's inputs, segments, speeds,
-    operating)."""
+    operating, ball_sizes)."""
     n = arrays[0].shape[0]
     n_blocks = (n + block - 1) // block
     for b in prange(n_blocks):
-        cases = CaseBlock(arrays[0], arrays[1], arrays[2], arrays[3], results)
+        cases = CaseBlock(arrays[0], arrays[1], arrays[2], arrays[3], arrays[4], results)
         work = np.empty((WORK_ROWS, 5))
         spin = warm_scratch(balls.speed_table)
         table, slices = own_tables(balls, cases.operating)
         for i in range(b * block, min(n, (b + 1) * block)):
-            mine = with_operating(balls, cases.operating, i, table, slices)
+            mine = with_operating(balls, cases, i, table, slices)
             solve_into(cases, i, at_speed(mine, cases.speeds, i, spin, True), settings, warm, work)
 
 
@@ -483,7 +497,7 @@ def map_sweep(elements, cases, given_load, settings, stop):
     (smallest, largest loaded outer contact angle per row, rad) are filled in a map at speed (else (1, rows),
     untouched). The per-thread scratch is sized by contract.scratch_shape, as on the GPU.
     """
-    map_groups(elements.balls, tuple(elements[1:]), tuple(cases[:4]), cases.results, scratch_shape(elements, cases),
+    map_groups(elements.balls, tuple(elements[1:]), tuple(cases[:5]), cases.results, scratch_shape(elements, cases),
                given_load, settings, stop)
 
 
@@ -491,12 +505,12 @@ def map_sweep(elements, cases, given_load, settings, stop):
 def map_groups(balls, tables, arrays, results, shape, given_load, settings, stop):
     """:func:`map_sweep`'s parallel loop: the block's runs shared among MAP_GROUPS groups, each with one
     Scratch of ``shape`` (contract.ScratchShape). The records come in parts (``tables``: Elements' ball_row,
-    life, C0; ``arrays``: CaseBlock's inputs, segments, speeds, operating)."""
+    life, C0; ``arrays``: CaseBlock's inputs, segments, speeds, operating, ball_sizes)."""
     n_runs = arrays[1].shape[0] - 1
     groups = min(n_runs, MAP_GROUPS)
     for g in prange(groups):
         elements = Elements(balls, tables[0], tables[1], tables[2])
-        cases = CaseBlock(arrays[0], arrays[1], arrays[2], arrays[3], results)
+        cases = CaseBlock(arrays[0], arrays[1], arrays[2], arrays[3], arrays[4], results)
         scratch = new_scratch(shape, balls, cases.operating, results.n_loaded)
         map_runs(range(g, n_runs, groups), elements, cases, given_load, settings, stop, scratch)
 
@@ -539,7 +553,7 @@ def map_runs(runs, elements, cases, given_load, settings, stop, scratch):
                 slope_known = False
             out.status[i], out.iterations[i], out.residual[i] = operating_point(
                 given_load, inputs[i], warm, out.q[i], out.f[i], out.K[i],
-                at_speed(with_operating(elements.balls, cases.operating, i, scratch.table, scratch.slices),
+                at_speed(with_operating(elements.balls, cases, i, scratch.table, scratch.slices),
                          cases.speeds, i, scratch.spin, not warm), settings, scratch)
             write_case(elements, cases, i, given_load, settings, scratch)
 
@@ -605,10 +619,10 @@ def passage_sweep(elements, positions, cases, given_load, settings, stop):
     converged q. ``stop[0] != 0`` ends the sweep early, as in map_sweep. Its cases are the bearing as its
     tables hold it (``cases.operating`` None).
     """
-    if cases.operating is not None:
+    if cases.operating is not None or cases.ball_sizes is not None:
         raise ValueError("cases.operating: a passage table's cases take the bearing's own clearance and preload "
                          "(None); per-case operating values are for maps and batches")
-    passage_groups(elements.balls, tuple(elements[1:]), positions, tuple(cases[:4]), cases.results,
+    passage_groups(elements.balls, tuple(elements[1:]), positions, tuple(cases[:5]), cases.results,
                    scratch_shape(elements, cases), given_load, settings, stop)
 
 
@@ -620,7 +634,7 @@ def passage_groups(balls, tables, positions, arrays, results, shape, given_load,
     groups = min(n_points, MAP_GROUPS)
     for g in prange(groups):
         elements = Elements(balls, tables[0], tables[1], tables[2])
-        cases = CaseBlock(arrays[0], arrays[1], arrays[2], arrays[3], results)
+        cases = CaseBlock(arrays[0], arrays[1], arrays[2], arrays[3], arrays[4], results)
         scratch = new_scratch(shape, balls, None, results.n_loaded)  # a passage table's cases: the bearing's own
         for i in range(g, n_points, groups):
             if stop_requested(stop):

@@ -250,19 +250,20 @@ def _flag_outside(res: dict, outside: np.ndarray) -> None:
 
 
 def block_records(bearing: Bearing, line_length: int, life, spinning: bool, inputs: np.ndarray, res: dict,
-                  first: int):
+                  first: int, mirror: bool = True):
     """(Elements, CaseBlock) of one block (engine/contract.py): the bearing's element set (at speed when
-    ``spinning``), its rows and life table, and the block's inputs (n, 5), continuation segments, speeds
-    (rad/s, from the inputs' sixth column in rpm) and results (:func:`map_results` of ``res``)."""
-    balls, speeds = bearing.ball_set(), np.zeros(0)
+    ``spinning``; without its mirror half unless ``mirror``: cases whose balls differ), its rows and life table,
+    and the block's inputs (n, 5), continuation segments, speeds (rad/s, from the inputs' sixth column in rpm)
+    and results (:func:`map_results` of ``res``)."""
+    balls, speeds = bearing.ball_set(mirror=mirror), np.zeros(0)
     if inputs.shape[1] == 6:  # the shaft speed (rpm) per case
         if spinning:
-            balls, speeds = bearing.ball_set(speed=0.0), inputs[:, 5] * np.pi / 30.0
+            balls, speeds = bearing.ball_set(speed=0.0, mirror=mirror), inputs[:, 5] * np.pi / 30.0
         inputs = np.ascontiguousarray(inputs[:, :5])
     table, C0 = (np.empty((0, 8)), 0.0) if life is None else life[:2]
     elements = Elements(balls, bearing.element_rows, table, C0)
     segments = segment_starts(first, first + inputs.shape[0], line_length)
-    return elements, CaseBlock(inputs, segments, speeds, None, map_results(res, bearing.n_rows))
+    return elements, CaseBlock(inputs, segments, speeds, None, None, map_results(res, bearing.n_rows))
 
 
 #: The engine's Results field of each map variable (the file's names are the engineer's, the record's short).

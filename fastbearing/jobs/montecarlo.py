@@ -37,14 +37,16 @@ from ..engine.sweep import map_sweep
 from ..model.bearing import Bearing, check_speed, check_speed_model
 from ..model.bearing_file import read_job_config
 from ..model.mounted import CASE_TEMPERATURES, preload_shifts
-from ..model.tolerance_samples import DRAW_BLOCK, ZONE_NAMES, Zone, clearance_budget, draw, interferences, tolerance_zones
+from ..model.tolerance_samples import (DRAW_BLOCK, ZONE_NAMES, Zone, ball_zone, clearance_budget, draw,
+                                        interferences, tolerance_zones)
 from ..analysis.life import life_table, rating_sources, ratings
 from .grid import Axis, CaseSet
 from .loadmap import _flag_outside, _iso_lives, block_records, operating_variables, read_life
 
 #: Most samples one run may have.
 MAX_SAMPLES = 100_000_000
-_KEYS = {"samples", "seed", "speed", "life", "compression", "method", "rtol", "max_iter", "variables", "dtype"} \
+_KEYS = {"samples", "seed", "speed", "life", "compression", "method", "rtol", "max_iter", "variables", "dtype",
+         "ball_diameter_variation"} \
     | set(LOAD_NAMES) | set(CASE_TEMPERATURES)
 #: The percentiles of the summary.
 PERCENTILES = (1, 5, 50, 95, 99)
@@ -52,7 +54,8 @@ PERCENTILES = (1, 5, 50, 95, 99)
 ZONE_LONG_NAMES = {"shaft_diameter_deviation": "shaft diameter deviation from the nominal bore",
                    "bore_deviation": "ring bore deviation", "outer_diameter_deviation": "ring outer diameter deviation",
                    "housing_bore_deviation": "housing bore deviation from the nominal outer diameter",
-                   "unmounted_diametral_clearance": "unmounted diametral clearance"}
+                   "unmounted_diametral_clearance": "unmounted diametral clearance",
+                   "ball_diameter_deviation": "ball diameter deviation from the nominal"}
 
 
 @dataclass(frozen=True)
@@ -111,6 +114,8 @@ def read_config(config) -> MonteCarloConfig:
     if temperatures:
         bearing = replace(bearing, mounting=replace(bearing.mounting, **temperatures))
     zones = tolerance_zones(bearing)
+    if spec.get("ball_diameter_variation", 0.0) != 0.0:
+        zones += (_ball_zone(bearing, spec["ball_diameter_variation"], speed),)
     if speed > 0:
         try:
             check_speed_model(bearing, speed)
@@ -134,6 +139,22 @@ def read_config(config) -> MonteCarloConfig:
     fingerprint = hashlib.sha256(text.encode()).hexdigest()
     return MonteCarloConfig(bearing, samples, seed, tuple(loads), speed, zones, life, compression, method, rtol,
                             max_iter, text, source, fingerprint, stored, dtype)
+
+
+def _ball_zone(bearing, variation, speed: float) -> Zone:
+    """The per-ball diameter zone of ``[montecarlo] ball_diameter_variation`` (mm), where the model takes it."""
+    where = "montecarlo.ball_diameter_variation"
+    try:
+        zone = ball_zone(bearing, variation)
+    except validate.FieldError as err:
+        raise err.within("montecarlo") from None
+    if speed > 0:
+        raise validate.FieldError(where, "needs speed = 0: at speed a ball's diameter also sets its mass and the "
+                                  "high-speed model's contact radii, which are not varied per ball", variation)
+    if bearing.roller_rows or bearing.four_point_columns is not None:
+        raise validate.FieldError(where, "is for rows of plain balls (element = \"ball\"): four-point balls and "
+                                  "rollers are not varied per element", variation)
+    return zone
 
 
 @dataclass(frozen=True)
@@ -180,9 +201,12 @@ def compute_block(sampler: Sampler, line_length: int, settings, life, spinning: 
     # solved in clearance order into this thread's own arrays, then gathered into ``res`` in sample order
     solved = {k: a for k, a in res.items() if k not in ZONE_NAMES and not k.startswith("operating_")}
     in_order = _sorted_arrays(solved, n)
-    elements, cases = block_records(sampler.base, line_length, life, spinning, inputs, in_order, first)
+    sizes = samples.get("ball_diameter_deviation")
+    elements, cases = block_records(sampler.base, line_length, life, spinning, inputs, in_order, first,
+                                    mirror=sizes is None)  # balls of their own sizes: no mirror images
     outside = ~valid
-    cases = cases._replace(inputs=np.where(outside[:, None], np.nan, cases.inputs), operating=table)
+    cases = cases._replace(inputs=np.where(outside[:, None], np.nan, cases.inputs), operating=table,
+                           ball_sizes=None if sizes is None else np.ascontiguousarray(sizes[order]))
     map_sweep(elements, cases, True, settings, stop)
     if stop[0] != 0:
         return
@@ -212,7 +236,7 @@ def _sorted_arrays(like: dict, n: int) -> dict:
 def zone_variables(zones) -> list:
     """One stored input per sampled zone (mm), with its zone and source."""
     V = storage.Variable
-    return [V(z.name, (), "f8", "mm", ZONE_LONG_NAMES[z.name],
+    return [V(z.name, ("ball",) if z.count is not None else (), "f8", "mm", ZONE_LONG_NAMES[z.name],
               {"zone_low_mm": z.low, "zone_high_mm": z.high, "source": z.source,
                "comment": "drawn uniformly and independently within its zone"}) for z in zones]
 
@@ -243,9 +267,13 @@ def job(cfg: MonteCarloConfig) -> jobs.Job:
         stored = tuple(dict.fromkeys(stored + ("K", "operating_diametral_clearance")
                                      + tuple(z.name for z in cfg.zones) + (("L10r",) if life else ())))
     sampler = Sampler(cfg.zones, cfg.seed, cfg.bearing, base, cfg.speed)
+    sizes, own_dims = {"dof": 5, "dof_col": 5, "row": base.n_rows}, ()
+    if any(z.count is not None for z in cfg.zones):
+        sizes["ball"] = base.n_balls
+        own_dims = (storage.Coordinate("ball", np.arange(base.n_balls), "1", "ball number (row by row)"),)
     return jobs.Job(
         kind="Monte Carlo run", bearing=base, cases=cases, variables=tuple(variables), attrs=attrs,
-        sizes={"dof": 5, "dof_col": 5, "row": base.n_rows},
+        sizes=sizes, own_dims=own_dims,
         compute=partial(compute_block, sampler, cases.line_length, settings, life, cfg.speed > 0),
         settings=settings, method=cfg.method, chunk=DRAW_BLOCK, text=cfg.text, source=cfg.source,
         fingerprint=cfg.fingerprint, compression=cfg.compression, line_length=cases.line_length,
@@ -307,7 +335,8 @@ def summarize(path) -> dict:
                    "kzz_N_per_mm": rf.read("K", (slice(None), 2, 2)).astype(float)}
         if rf.has("L10r"):
             outputs["L10r_million_revolutions"] = rf.read("L10r").astype(float)
-        inputs = {n: rf.read(n).astype(float) for n in ZONE_NAMES if rf.has(n)}
+        # the per-ball deviations (sample, ball) are not ranked: a ball's own size matters by where it sits
+        inputs = {n: rf.read(n).astype(float) for n in ZONE_NAMES if rf.has(n) and rf.ndim(n) == 1}
     ok = st.converged_mask(status)
     summary = {"samples": int(status.shape[0]), "converged": int(ok.sum()),
                "outside_model": int(((status & st.OUTCOME_MASK) == st.OUTSIDE_MODEL).sum()),

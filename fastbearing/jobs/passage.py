@@ -295,7 +295,7 @@ def compute_block(tables: np.ndarray, slice_tables: np.ndarray | None, balls, ba
                              res["max_ball_load"], res["loaded_balls"], res["min_contact_angle"],
                              res["max_contact_angle"], element_loads)
     elements = Elements(balls, ball_row, np.empty((0, 8)), 0.0)
-    cases = CaseBlock(inputs, np.zeros(0, np.int64), np.zeros(0), None, results)
+    cases = CaseBlock(inputs, np.zeros(0, np.int64), np.zeros(0), None, None, results)
     sweep(elements, Positions(tables, slice_tables, speed_tables), cases, given_load, settings, stop)
     if stop[0] != 0:
         return  # incomplete: the runner discards the block

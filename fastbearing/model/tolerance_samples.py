@@ -36,17 +36,28 @@ DRAW_BLOCK = 65536
 
 #: The sampled inputs, in the order they are drawn from each block's generator (deviations in mm).
 ZONE_NAMES = ("shaft_diameter_deviation", "bore_deviation", "outer_diameter_deviation", "housing_bore_deviation",
-              "unmounted_diametral_clearance")
+              "unmounted_diametral_clearance", "ball_diameter_deviation")
 
 
 @dataclass(frozen=True)
 class Zone:
-    """One sampled input: uniform on [low, high] (mm), from ``source`` (the standard and its row)."""
+    """One sampled input: uniform on [low, high] (mm), from ``source`` (the standard and its row); ``count``
+    values a sample (each ball's diameter deviation: one per ball; (n, count) draws), None: one value, (n,)."""
 
     name: str
     low: float
     high: float
     source: str
+    count: int | None = None
+
+
+def ball_zone(bearing, variation: float) -> Zone:
+    """Each ball's diameter deviation, uniform on [-variation/2, +variation/2] (mm): a ball set whose diameters
+    spread over ``variation`` (e.g. the lot diameter variation of a ball grade, ISO 3290-1), one value per ball
+    (ball rows only)."""
+    variation = validate.number(variation, "ball_diameter_variation", low=0.0, units="mm")
+    return Zone("ball_diameter_deviation", -0.5 * variation, 0.5 * variation,
+                f"each ball uniform within a diameter variation of {1000.0 * variation:g} um", bearing.n_balls)
 
 
 def tolerance_zones(bearing) -> tuple[Zone, ...]:
@@ -87,11 +98,12 @@ def draw(zones, n: int, seed: int, first: int = 0) -> dict[str, np.ndarray]:
     """Samples first .. first+n-1 of ``zones`` (n,) each, mm; uniform within each zone, independent.
 
     Sample i is the same whatever ``first`` and ``n`` cover it: block b = i // DRAW_BLOCK draws all its
-    samples' zones from ``np.random.default_rng((seed, b))``, zone by zone in :data:`ZONE_NAMES` order."""
+    samples' zones from ``np.random.default_rng((seed, b))``, zone by zone in :data:`ZONE_NAMES` order (a zone
+    of a ``count`` gives (n, count) values)."""
     n = validate.integer(n, "samples", low=0)
     first = validate.integer(first, "first", low=0)
     seed = validate.integer(seed, "seed", low=0)
-    out = {z.name: np.empty(n) for z in zones}
+    out = {z.name: np.empty((n, z.count) if z.count is not None else n) for z in zones}
     i = first
     while i < first + n:
         block = i // DRAW_BLOCK
@@ -99,7 +111,7 @@ def draw(zones, n: int, seed: int, first: int = 0) -> dict[str, np.ndarray]:
         stop = min(start + DRAW_BLOCK, first + n)
         rng = np.random.default_rng((seed, block))
         for z in sorted(zones, key=lambda z: ZONE_NAMES.index(z.name)):
-            u = rng.random(DRAW_BLOCK)[i - start:stop - start]
+            u = rng.random((DRAW_BLOCK, z.count) if z.count is not None else DRAW_BLOCK)[i - start:stop - start]
             out[z.name][i - first:stop - first] = z.low + (z.high - z.low) * u
         i = stop
     return out
