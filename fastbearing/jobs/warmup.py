@@ -144,6 +144,35 @@ def _shafts(folder: Path) -> None:
     shaft_life(spindle, result, LifeSettings(speed=_SPINDLE_SPEED, balls_at_speed=True))
 
 
+def _mounted(folder: Path) -> None:
+    import numpy as np
+
+    from ..api import solve_many
+    from ..model.bearing import Bearing
+    from ..model.bearing_file import read_toml
+    from ..model.catalogue import catalogue_folder
+    from .loadmap import loadmap
+    from .montecarlo import montecarlo
+
+    # cases that vary the bearing: data/examples/spindle-7014-thermal.toml and 6205-k5-montecarlo.toml, shortened
+    doc = read_toml(catalogue_folder() / "7014C-DB.toml")
+    doc["bearing"]["mounting"] = {"shaft_fit": "js5", "housing_fit": "JS7", "outer_ring_temperature": 25.0}
+    doc["loadmap"] = {"inner_ring_temperature": [25.0, 40.0], "speed": [0.0, _SPINDLE_SPEED],
+                      "Fz": {"start": 0.0, "stop": 1000.0, "num": 3}}
+    loadmap(doc, folder / "thermal.h5", threads=1, progress=False, overwrite=True)
+    deep_groove = {"name": "6205", "arrangement": "single",
+                   "geometry": {"n_balls": 9, "ball_diameter": 7.938, "pitch_diameter": 38.5, "inner_groove_ratio": 0.52,
+                                "outer_groove_ratio": 0.53, "diametral_clearance": "CN", "bore": 25.0,
+                                "outer_diameter": 52.0, "width": 15.0},
+                   "mounting": {"shaft_fit": "k5", "housing_fit": "H7"}}
+    for case in ({"speed": 3000.0}, {"speed": 0.0}, {"speed": 0.0, "ball_diameter_variation": 0.001}):
+        montecarlo({"bearing": deep_groove, "montecarlo": {"samples": 64, "Fx": 2000.0, "life": True, **case}},
+                   folder / "montecarlo.h5", threads=1, progress=False, overwrite=True)
+    bearing = Bearing.preset("gunduz2013", "DB")
+    loads = np.array([_PAPER_LOAD, [500.0, 0.0, 2000.0, 0.0, 0.0]])
+    solve_many(bearing, loads, threads=1, radial_clearance=[[0.0, 0.0], [-0.002, -0.002]])
+
+
 #: What a warm-up says when numba starts compiling (then, while it lasts, how far it is: _cache.CompileWatch).
 WARMUP_NOTICE = "fastbearing: compiling the kernels into numba's cache"
 
@@ -158,6 +187,8 @@ FAMILIES = {
     "maps": ("load maps: the README's main job and a map over speed with life", _maps),
     "passage": ("ball-passage tables, with a defect", _passage),
     "shafts": ("rigid shafts on several bearings, at rest and at speed, with life", _shafts),
+    "mounted": ("cases that vary the bearing: maps over temperatures and speed, montecarlo, per-case clearances",
+                _mounted),
 }
 
 
