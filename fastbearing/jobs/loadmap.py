@@ -238,6 +238,21 @@ def _vary(cases: CaseBlock, varying, inputs: np.ndarray, res: dict, first: int):
     return cases, values.outside
 
 
+def _mount_notes(mounted: Bearing, cases: CaseSet, most: int = 4096) -> list[str]:
+    """The distinct notes of a map's mounts (fits lost, hoop stress, operating values outside the model), over
+    every (speed, temperatures) of its axes (at most ``most`` of them: a note per distinct operating point
+    would need them all)."""
+    import itertools
+
+    speeds = cases.speed.values if cases.speed is not None else (cases.table[:, 5] if cases.table is not None
+                                                                 and cases.table.shape[1] == 6 else [0.0])
+    axes = [np.unique(np.asarray(speeds, float))] + [a.values for a in cases.conditions]
+    points = list(itertools.islice(itertools.product(*axes), most))
+    columns = np.array(points, dtype=float)
+    temperatures = {a.name: columns[:, k + 1] for k, a in enumerate(cases.conditions)}
+    return case_operating(mounted, len(points), columns[:, 0], temperatures=temperatures, per_case=True).notes
+
+
 def _flag_outside(res: dict, outside: np.ndarray) -> None:
     """Cases outside the model: status outside_model, every real result nan (they were not solved)."""
     for name, a in res.items():
@@ -333,6 +348,9 @@ def job(cfg: LoadMapConfig, device: str = "cpu") -> jobs.Job:
         attrs["operating_note"] = ("each case runs at its own operating clearance and preload from [bearing.mounting] "
                                    "at its speed and temperatures: variables operating_diametral_clearance and "
                                    "operating_axial_preload (mm)")
+        notes = _mount_notes(cfg.mounted, cfg.cases)
+        if notes:
+            attrs["operating_notes"] = "; ".join(notes)
     if cfg.life is not None:
         r = ratings(cfg.bearing)
         life = (life_table(r, cfg.life), r.C0 if r.C0 is not None else float("nan"), r)
