@@ -83,10 +83,11 @@ def element_set(tables, spin_all, t):
 
 @njit(inline="always")
 def thread_scratch(work, predictor, rows, t, spin):
-    """Thread t's contract.Scratch: its local ``work`` and ``predictor`` arrays, its rows of the launch's
-    gpu.ThreadRows ``rows`` and its balls' warm starts ``spin`` (None quasi-static)."""
-    return Scratch(work, predictor, rows.ball_load[t], rows.contact_angle[t], rows.sums[t], spin, rows.outer_load[t],
-                   rows.outer_count[t])
+    """Thread t's contract.Scratch: its local ``work`` and ``predictor`` arrays, its column of the launch's
+    element-major gpu.ThreadRows ``rows`` (strided views: neighbouring threads, neighbouring addresses) and its
+    balls' warm starts ``spin`` (None quasi-static)."""
+    return Scratch(work, predictor, rows.ball_load[:, t], rows.contact_angle[:, t], rows.sums[:, :, t], spin,
+                   rows.outer_load[:, t], rows.outer_count[:, t])
 
 
 @njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
@@ -148,3 +149,11 @@ def passage_kernel(elements, positions, cases, given_load, settings, rows):
     scratch = thread_scratch(work, work, rows, t, balls.warm)   # no predictor in a passage table
     for i in range(t, cases.inputs.shape[0], n_threads):
         passage_point(i, mine, at, cases, given_load, settings, scratch)
+
+
+@cuda.jit(cache=True)
+def narrow_kernel(src, dst):
+    """``dst[i] = src[i]`` in dst's dtype (float64 to float32 for a map stored in float32: rounded to nearest, as
+    numpy casts; +-inf beyond float32's range), grid stride over the 1-D views (engine/gpu.py's narrow)."""
+    for i in range(cuda.grid(1), src.shape[0], cuda.gridsize(1)):
+        dst[i] = src[i]
