@@ -326,7 +326,7 @@ def test_the_gpu_job_sizes_its_blocks_and_narrows_float32():
         cfg | {"loadmap": cfg["loadmap"] | {"chunk": 4_000_000}}).fingerprint     # the config's own blocks
 
 
-def test_device_memory_pins_each_host_array_once_and_keeps_its_streams():
+def test_device_memory_pins_each_host_array_once_and_keeps_its_streams(monkeypatch):
     """The results' host arrays are page-locked once (by the array a block's view belongs to), and the same
     streams serve every block (here with stand-ins for numba.cuda's calls)."""
     locked, made = [], []
@@ -337,5 +337,8 @@ def test_device_memory_pins_each_host_array_once_and_keeps_its_streams():
     mem.pin(buffer[2:8])
     mem.pin(buffer)
     assert len(locked) == 1 and locked[0] is buffer
+    monkeypatch.setattr(gpu, "PINNED_BYTES", 500)                          # 400 bytes held: the next goes first
+    mem.pin(np.zeros(20))
+    assert len(locked) == 2 and list(mem.pinned.values()) == [2]
     assert mem.streams(2) == made and mem.streams(1) == made[:1] and len(made) == 2
     assert gpu.DeviceMemory(np.array, np.empty).streams(2) == [0, 0]      # no streams: the default one

@@ -121,8 +121,9 @@ def solve_kernel(tables, cases, spin_all, settings, warm):
 
 @cuda.jit(cache=True)
 def map_kernel(elements, cases, given_load, settings, stop, rows):
-    """One block of a load or displacement map, one continuation run per thread: sweep.map_runs itself (cold
-    start, tangent and curved predictors along the run, per-row summaries, life)."""
+    """A launch of a map block (gpu.map_parts), one continuation segment of ``cases.segments`` per thread (the GPU's:
+    runs cut to at most gpu.SEGMENT_CASES cases): sweep.map_runs itself (cold start, tangent and curved predictors
+    along the segment, per-row summaries, life), its scratch column t of the launch's element-major ``rows``."""
     t = cuda.grid(1)
     n_threads = cuda.gridsize(1)
     work = cuda.local.array((WORK_ROWS, 5), float64)

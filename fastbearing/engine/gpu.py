@@ -4,10 +4,11 @@ Nothing here is physics. numba-cuda compiles any ``@njit`` function (and every `
 generic target) that a CUDA kernel calls as a device function from the same Python source, so the three
 kernels (engine/cuda_kernels.py: module-level, cached on disk) call the CPU's per-case bodies:
 :func:`fastbearing.engine.sweep.solve_into` (one case per thread, as sweep.solve_sweep does per case),
-:func:`fastbearing.engine.sweep.map_runs` (one continuation run of a map per thread, as sweep.map_sweep does per
-group) and :func:`fastbearing.engine.sweep.passage_point` (one operating point per thread): statuses, warm
-starts, the tangent/curved predictors along a map line, the high-speed balls, roller rows and the life variables
-are the CPU's code. The drivers here take and pass the same records as the CPU's (engine/contract.py); a
+:func:`fastbearing.engine.sweep.map_runs` (one GPU segment of a map per thread: a continuation run cut short,
+:func:`device_segments`; sweep.map_sweep runs whole runs per group) and
+:func:`fastbearing.engine.sweep.passage_point` (one operating point per thread): statuses, warm starts, the
+tangent/curved predictors along a map line, the high-speed balls, roller rows and the life variables are the
+CPU's code. The drivers here take and pass the same records as the CPU's (engine/contract.py); a
 thread's scratch is sized by the same contract.scratch_shape: the solver's and the predictor's as
 ``cuda.local.array``, the per-element record, life sums and the outer contacts' summary element-major (thread t's
 are column t of device arrays) and the balls' warm starts as one block per thread (:data:`ThreadRows`). A map's
@@ -131,7 +132,8 @@ class DeviceMemory:
     ``pin`` page-locks a host array the results are copied into, once per array (``pin_host``: None where
     there is nothing to lock, as in the simulator), so that a copy on a stream is asynchronous; ``streams``
     hands out the same CUDA streams block after block. One per process (:func:`device_memory`): at most one
-    buffer per role, :data:`MAX_TABLES` tables and :data:`MAX_PINNED` locked host arrays."""
+    buffer per role, :data:`MAX_TABLES` tables, and at most :data:`MAX_PINNED` locked host arrays of
+    :data:`PINNED_BYTES` together (the oldest let go first; :func:`release_device_memory` lets go of all)."""
 
     def __init__(self, put, alloc, pin_host=None, new_stream=None):
         self.put, self.alloc, self.pin_host, self.new_stream = put, alloc, pin_host, new_stream
@@ -165,9 +167,10 @@ class DeviceMemory:
         while isinstance(base.base, np.ndarray):
             base = base.base
         key = (base.__array_interface__["data"][0], base.nbytes)
-        if key in self.pinned or not base.flags.c_contiguous or base.nbytes == 0:
+        if key in self.pinned or not base.flags.c_contiguous or not 0 < base.nbytes <= PINNED_BYTES:
             return
-        if len(self.pinned) >= MAX_PINNED:
+        while self.pinned and (len(self.pinned) >= MAX_PINNED
+                               or sum(k[1] for k in self.pinned) + base.nbytes > PINNED_BYTES):
             self.pinned.pop(next(iter(self.pinned)))   # unlocked when its last reference goes
         try:
             self.pinned[key] = self.pin_host(base)
@@ -200,6 +203,8 @@ class HostMemory(DeviceMemory):
 MAX_TABLES = 64
 #: Most host arrays one process keeps page-locked (two block buffers of a job's 20-odd variables fit).
 MAX_PINNED = 64
+#: Most host memory one process keeps page-locked (bytes): the 1M map's two block buffers take 0.7 GB.
+PINNED_BYTES = 1 << 33
 _MEMORY = None
 
 
