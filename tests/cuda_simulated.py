@@ -241,6 +241,13 @@ def map_segments():
         gpu.map_sweep_cuda(elements, cases, given_load, settings, stop)
         gpu_res[name] = res
     gpu.PART_THREADS = 1 << 17
+    # the stored variables alone come back (loadmap.wanted_results: K kept, status always): the rest untouched
+    elements, cases, kept = block()
+    for a in kept.values():
+        a[...] = -7
+    gpu.map_sweep_cuda(elements, cases, given_load, settings, stop, loadmap.wanted_results(("K", "status"), None))
+    out["stored_only"] = {key: "untouched" if np.all(a == -7) else "equal"
+                          if np.array_equal(a, gpu_res["one_launch"][key]) else "other" for key, a in kept.items()}
     res = gpu_res["parts"]
     out["parts_equal_one_launch"] = {key: bool(np.array_equal(res[key], gpu_res["one_launch"][key], equal_nan=True))
                                      for key in res}

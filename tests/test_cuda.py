@@ -229,6 +229,8 @@ def test_simulated_map_cuts_runs_into_gpu_segments(simulated):
     assert same["status"] == same["iterations"] == same["loaded_balls"] == 0.0
     assert len(same) == 9 and max(same.values()) <= 1e-10, same
     assert r["same_segments_residual"] <= 1e-14
+    stored = r["stored_only"]                                   # variables = ["K"]: K and status come back
+    assert stored.pop("K") == stored.pop("status") == "equal" and set(stored.values()) == {"untouched"}, stored
     assert r["gpu_status"] == r["cpu_status"] and r["n_converged"] == 84
     assert 0.0 < r["q"] <= 1e-8 and 0.0 < r["K"] <= 1e-8     # different warm starts: close, not equal
     assert r["iterations"][1] > r["iterations"][0]              # the extra cold starts cost iterations
