@@ -55,8 +55,8 @@ SCRATCH_BYTES = 1 << 30
 #: Longest continuation segment one GPU thread runs in a map (cases): the CPU's runs (grid.segment_starts: a line,
 #: or LINE_SEGMENT cases of one) are cut into near-equal pieces of at most this many, each starting cold
 #: (:func:`device_segments`). Measured on the CPU (bench/gpu_segments.py, docs/gpu.md): pieces of 8 take 1.89 Newton
-#: iterations a case against 1.34 on the CPU's runs of 99 (one case per thread, all cold: 5.09) and give the 1M
-#: example 131 300 threads (10: 1.75 and 101 000).
+#: iterations a case against 1.34 on the CPU's runs of 99 (about 1.2x the time; one case per thread, all cold:
+#: 5.09) and give the 1M example 131 300 threads (10: 1.75 and 101 000).
 SEGMENT_CASES = 8
 #: Threads of one map launch at least, where a block has more runs: a block's runs are split into launches of at
 #: least this many threads (at most MAX_PARTS), each on its own stream, so that one launch's copies back overlap
@@ -379,7 +379,7 @@ def _solve_args(mem, balls, cases, settings, warm):
 def _map_launches(mem, elements, cases, given_load, settings):
     """([(thread blocks, threads per block, the map kernel's arguments, (first case, end case))] one per launch
     of :func:`map_parts`, the device results) in ``mem``: each launch gets its own range of the GPU's segments
-    and of the scratch rows (its threads' own), the rest is the block's."""
+    and its own scratch (:func:`thread_rows` of its part), the rest is the block's."""
     parts = map_parts(elements, cases)
     with_speed = elements.balls.speed_table is not None
     outs = _outputs(mem, cases.results)
