@@ -95,6 +95,8 @@ def scenarios(rng):
     return {"cold_ball": cold_ball, "warm_ball": warm_ball, "broyden_fixed": broyden_fixed, "speed_ball": speed_ball,
             "roller": roller, "map_ball": lambda: compare_maps("ball"),
             "map_speed_life": lambda: compare_maps("speed_life"), "passage_ball": passage_ball,
+            "map_segments": map_segments, "map_float32": lambda: map_float32("k_only"),
+            "map_float32_life": lambda: map_float32("life"),
             "passage_roller_speed": passage_roller_speed}
 
 
@@ -123,13 +125,37 @@ def compare_passage(cfg):
         paths = [fb.passage(cfg, Path(tmp) / f"p-{d}.h5", progress=False, device=d) for d in ("cpu", "cuda")]
         diffs = {}
         with h5py.File(paths[0]) as a, h5py.File(paths[1]) as b:
-            for key in ("q", "f", "K", "residual", "max_ball_load", "K_mean", "K_amplitude"):
+            for key in ("q", "f", "K", "max_ball_load", "K_mean", "K_amplitude"):
                 x, y = a[key][()], b[key][()]
                 scale = max(float(np.nanmax(np.abs(x))), 1e-300)
                 same_nan = np.array_equal(np.isfinite(x), np.isfinite(y))
                 diffs[key] = float(np.abs(np.where(np.isfinite(x), x - y, 0.0)).max() / scale) if same_nan else 1e300
             status = (a["status"][()].ravel().tolist(), b["status"][()].ravel().tolist())
-    return {"cpu_status": status[0], "gpu_status": status[1], "max_relative": diffs}
+            residual = residual_difference(a["residual"][()], b["residual"][()])
+    return {"cpu_status": status[0], "gpu_status": status[1], "max_relative": diffs, "residual": residual}
+
+
+def float_difference(key, a, b):
+    """0 for equal arrays; else for reals max |a - b| over max |a| (``residual``: absolutely), inf where one is
+    finite and the other not or where integers differ."""
+    if a.dtype.kind != "f":
+        return 0.0 if np.array_equal(a, b) else float("inf")
+    if key == "residual":
+        return residual_difference(a, b)
+    if not np.array_equal(np.isfinite(a), np.isfinite(b)):
+        return float("inf")
+    scale = max(float(np.nanmax(np.abs(np.where(np.isfinite(a), a, np.nan)), initial=0.0)), 1e-300)
+    return float(np.abs(np.where(np.isfinite(a), a.astype(np.float64) - b, 0.0)).max() / scale)
+
+
+def residual_difference(a, b):
+    """Largest |a - b| of two relative residuals (dimensionless), inf where one is finite and the other not. A
+    converged residual is a rounding-level number itself (below the solver's rtol), so it is compared absolutely:
+    the GPU's scratch is element-major, so the simulator runs the CPU's code compiled for strided views, whose ball
+    sums LLVM orders otherwise (q, f, Kb agree to 1e-16; a residual of 1e-12 differs in its own digits)."""
+    if not np.array_equal(np.isfinite(a), np.isfinite(b)):
+        return float("inf")
+    return float(np.abs(np.where(np.isfinite(a), a - b, 0.0)).max())
 
 
 def compare_maps(only):
@@ -160,6 +186,8 @@ def compare_maps(only):
             diffs = {}
             with h5py.File(paths[0]) as a, h5py.File(paths[1]) as b:
                 for key in a:
+                    if key == "residual":
+                        continue
                     if isinstance(a[key], h5py.Dataset) and a[key].dtype.kind in "fiu" and a[key].ndim > 0:
                         x, y = a[key][()], b[key][()]
                         scale = np.nanmax(np.abs(np.where(np.isfinite(x), x, np.nan))) if x.dtype.kind == "f" else 1
@@ -167,8 +195,111 @@ def compare_maps(only):
                         d = np.abs(np.where(np.isfinite(x), x - y, 0.0)).max() / max(float(scale or 1.0), 1e-300)
                         diffs[key] = float(d) if same_nan else float("inf")
                 status = (a["status"][()].ravel().tolist(), b["status"][()].ravel().tolist())
-            result = {"cpu_status": status[0], "gpu_status": status[1], "max_relative": diffs}
+                residual = residual_difference(a["residual"][()], b["residual"][()])
+            result = {"cpu_status": status[0], "gpu_status": status[1], "max_relative": diffs, "residual": residual}
     return result
+
+
+SEGMENTED = {"bearing": {"preset": "gunduz2013", "arrangement": "DB"},
+             "loadmap": {"given": "load", "Fx": {"start": -2000.0, "stop": 2000.0, "num": 2}, "Fy": 0.0,
+                         "Fz": {"start": 500.0, "stop": 10000.0, "num": 2}, "Mx": 0.0,
+                         "My": {"start": -1e5, "stop": 1e5, "num": 21}}}  # runs of 21: GPU segments of 7
+
+
+def map_segments():
+    """One block of a map whose runs the GPU cuts (4 lines of 21 cases: 12 GPU segments of 7), through the driver,
+    in one launch and in launches of 3 threads on their own streams (gpu.PART_THREADS lowered: 4 launches): the
+    two equal bit for bit; against the CPU's sweep on the same segments equal to rounding (integers exactly; the
+    simulator runs the CPU's code compiled for the GPU's strided scratch, summed in another order); and against
+    the CPU's own runs (the warm starts differ: converged q and Kb within the solver's tolerance)."""
+    from fastbearing.engine import gpu
+    from fastbearing.engine.sweep import map_sweep
+    from fastbearing.jobs import loadmap, storage
+
+    job = loadmap.job(loadmap.read_config(SEGMENTED), "cuda")
+    n = job.cases.n_cases
+    inputs = job.cases.inputs(0, n)
+    bearing, given_load, line_length, settings, life, spinning = job.compute.args
+    stop = np.zeros(1, np.int64)
+
+    def block(segments=None):
+        res = storage.allocate(job.variables, job.sizes, n)
+        elements, cases = loadmap.block_records(bearing, line_length, life, spinning, inputs, res, 0)
+        return elements, (cases if segments is None else cases._replace(segments=segments(cases.segments))), res
+
+    elements, cases, cpu_runs = block()
+    map_sweep(elements, cases, given_load, settings, stop)
+    elements, cases, cpu_same = block(gpu.device_segments)
+    map_sweep(elements, cases, given_load, settings, stop)
+    launches, gpu_res = {}, {}
+    runs = block()[1].segments
+    out = {"cpu_segments": runs.tolist(), "gpu_segments": gpu.device_segments(runs).tolist()}
+    for name, part_threads in (("one_launch", gpu.PART_THREADS), ("parts", 3)):
+        gpu.PART_THREADS = part_threads
+        elements, cases, res = block()
+        launches[name] = len(gpu.map_parts(elements, cases).launches)
+        gpu.map_sweep_cuda(elements, cases, given_load, settings, stop)
+        gpu_res[name] = res
+    gpu.PART_THREADS = 1 << 17
+    # the stored variables alone come back (loadmap.wanted_results: K kept, status always): the rest untouched
+    elements, cases, kept = block()
+    for a in kept.values():
+        a[...] = -7
+    gpu.map_sweep_cuda(elements, cases, given_load, settings, stop, loadmap.wanted_results(("K", "status"), None))
+    out["stored_only"] = {key: "untouched" if np.all(a == -7) else "equal"
+                          if np.array_equal(a, gpu_res["one_launch"][key]) else "other" for key, a in kept.items()}
+    res = gpu_res["parts"]
+    out["parts_equal_one_launch"] = {key: bool(np.array_equal(res[key], gpu_res["one_launch"][key], equal_nan=True))
+                                     for key in res}
+    out["same_segments"] = {}
+    for key in res:
+        a, b = res[key], cpu_same[key]
+        if a.dtype.kind != "f":
+            out["same_segments"][key] = 0.0 if np.array_equal(a, b) else float("inf")
+        elif key != "residual":
+            scale = max(float(np.nanmax(np.abs(b))), 1e-300)
+            same_nan = np.array_equal(np.isfinite(a), np.isfinite(b))
+            out["same_segments"][key] = float(np.abs(np.where(np.isfinite(b), a - b, 0.0)).max() / scale) \
+                if same_nan else float("inf")
+    out["same_segments_residual"] = residual_difference(cpu_same["residual"], res["residual"])
+    ok = (cpu_runs["status"] & st.OUTCOME_MASK) == st.CONVERGED
+    out |= {"launches": launches, "cpu_status": cpu_runs["status"].tolist(), "gpu_status": res["status"].tolist(),
+            "n_converged": int(ok.sum()), "q": relative(res["q"], cpu_runs["q"], ok),
+            "K": relative(res["K"], cpu_runs["K"], ok),
+            "iterations": [float(cpu_runs["iterations"].mean()), float(res["iterations"].mean())]}
+    return out
+
+
+def map_float32(only):
+    """A float32 map through the runner on both devices (runs of at most 5: no GPU cut), the files compared: integers
+    exactly, reals by their largest difference over the variable's largest value (the residual absolutely, as
+    :func:`residual_difference`); ``only`` "k_only", K alone (the GPU's buffers hold K in float32, made on the
+    device), or "life", the spindle at speed keeping every variable in float32 with life (f and L10r stay float64
+    on the host: the ISO lives are made from them)."""
+    import h5py
+
+    from fastbearing.jobs import loadmap
+
+    k_only = {"bearing": SEGMENTED["bearing"], "loadmap": SEGMENTED["loadmap"] | {
+        "My": {"start": -1e5, "stop": 1e5, "num": 5}, "variables": ["K"], "dtype": "float32"}}
+    spindle = {"bearing": str(DATA.parent / "fastbearing" / "catalogue" / "7014C-DB.toml"),
+               "loadmap": {"given": "load", "speed": [0.0, 12000.0], "Fx": 500.0,
+                           "Fz": {"start": 0.0, "stop": 2000.0, "num": 4}, "life": True, "dtype": "float32"}}
+    out = {}
+    with tempfile.TemporaryDirectory() as tmp:
+        for name, cfg in (("k_only", k_only), ("life", spindle)):
+            if name != only:
+                continue
+            job = loadmap.job(loadmap.read_config(cfg), "cuda")
+            paths = [fb.loadmap(cfg, Path(tmp) / f"{name}-{d}.h5", progress=False, device=d) for d in ("cpu", "cuda")]
+            with h5py.File(paths[0]) as a, h5py.File(paths[1]) as b:
+                names = [k for k in a if isinstance(a[k], h5py.Dataset) and a[k].ndim > 0 and k in b]
+                out[name] = {"narrow": list(job.narrow),
+                             "buffers": {v.name: v.dtype for v in job.buffer_variables if v.name in job.narrow},
+                             "dtypes": {k: b[k].dtype.str for k in names if b[k].dtype.kind == "f"},
+                             "difference": {k: float_difference(k, a[k][()], b[k][()]) for k in names},
+                             "stored": sorted(k for k in b if isinstance(b[k], h5py.Dataset))}
+    return out
 
 
 if __name__ == "__main__":

@@ -43,12 +43,16 @@ def test_plan_names_every_stage_and_the_1M_map_without_a_gpu():
                    for line in lines), run.stdout
     one_m = next(line for line in lines if line.startswith("1M: "))
     assert "gunduz2013-db-1M.toml" in one_m and "999,900 cases" in one_m
+    # issue 46 item 2: one block sized for the device, its runs of 99 cut into GPU segments of at most 8 cases
+    assert "999,900 cases: 1 block, 1 launch of 131,328 threads (one GPU segment of at most 8 cases" in one_m
+    big = next(line for line in lines if line.startswith("1e8: "))
+    assert "26 blocks, 76 launches of 13,056-173,440 threads" in big     # 4M-case blocks: 3 launches each
 
 
 def test_plan_of_one_stage(bench, capsys):
     bench.print_plan(["roller"], small=True)
     out = capsys.readouterr().out
-    assert "roller: the roller map (30206-TDO), 12 cases: 1 launch of 4 threads" in out
+    assert "roller: the roller map (30206-TDO), 12 cases: 1 block, 1 launch of 4 threads" in out
     assert "cold:" not in out
 
 

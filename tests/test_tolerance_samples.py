@@ -17,7 +17,7 @@ from test_mounting import GEOMETRY_6205, bearing_6205
 
 def test_the_6205_on_k5_in_h7_samples_five_zones_from_the_standards():
     zones = {z.name: z for z in ts.tolerance_zones(bearing_6205())}
-    assert list(zones) == list(ts.ZONE_NAMES)
+    assert list(zones) == list(ts.ZONE_NAMES[:5])  # the sixth, each ball's diameter, is montecarlo's option
     shaft, bore = zones["shaft_diameter_deviation"], zones["bore_deviation"]
     # the maker's check of issue 44 item 7: k5 on 18-30 mm with the bore's 0/-10 um gives 2 to 21 um
     assert (round(shaft.low - bore.high, 9), round(shaft.high - bore.low, 9)) == (0.002, 0.021)

@@ -83,10 +83,12 @@ def element_set(tables, spin_all, t):
 
 @njit(inline="always")
 def thread_scratch(work, predictor, rows, t, spin):
-    """Thread t's contract.Scratch: its local ``work`` and ``predictor`` arrays, its rows of the launch's
-    gpu.ThreadRows ``rows`` and its balls' warm starts ``spin`` (None quasi-static)."""
-    return Scratch(work, predictor, rows.ball_load[t], rows.contact_angle[t], rows.sums[t], spin, rows.outer_load[t],
-                   rows.outer_count[t], None, None)  # no per-case operating values on the GPU (gpu._inputs)
+    """Thread t's contract.Scratch: its local ``work`` and ``predictor`` arrays, its column of the launch's
+    element-major gpu.ThreadRows ``rows`` (strided views: neighbouring threads, neighbouring addresses) and its
+    balls' warm starts ``spin`` (None quasi-static); no own tables (no per-case operating values on the GPU yet:
+    gpu._inputs)."""
+    return Scratch(work, predictor, rows.ball_load[:, t], rows.contact_angle[:, t], rows.sums[:, :, t], spin,
+                   rows.outer_load[:, t], rows.outer_count[:, t], None, None)
 
 
 @njit(inline="always")
@@ -127,8 +129,9 @@ def solve_kernel(tables, cases, spin_all, settings, warm):
 
 @cuda.jit(cache=True)
 def map_kernel(elements, cases, given_load, settings, stop, rows):
-    """One block of a load or displacement map, one continuation run per thread: sweep.map_runs itself (cold
-    start, tangent and curved predictors along the run, per-row summaries, life)."""
+    """A launch of a map block (gpu.map_parts), one continuation segment of ``cases.segments`` per thread (the GPU's:
+    runs cut to at most gpu.SEGMENT_CASES cases): sweep.map_runs itself (cold start, tangent and curved predictors
+    along the segment, per-row summaries, life), its scratch column t of the launch's element-major ``rows``."""
     t = cuda.grid(1)
     n_threads = cuda.gridsize(1)
     work = cuda.local.array((WORK_ROWS, 5), float64)
@@ -155,3 +158,11 @@ def passage_kernel(elements, positions, cases, given_load, settings, rows):
     scratch = thread_scratch(work, work, rows, t, balls.warm)   # no predictor in a passage table
     for i in range(t, cases.inputs.shape[0], n_threads):
         passage_point(i, mine, at, cases, given_load, settings, scratch)
+
+
+@cuda.jit(cache=True)
+def narrow_kernel(src, dst):
+    """``dst[i] = src[i]`` in dst's dtype (float64 to float32 for a map stored in float32: rounded to nearest, as
+    numpy casts; +-inf beyond float32's range), grid stride over the 1-D views (engine/gpu.py's narrow)."""
+    for i in range(cuda.grid(1), src.shape[0], cuda.gridsize(1)):
+        dst[i] = src[i]

@@ -4,13 +4,16 @@ Nothing here is physics. numba-cuda compiles any ``@njit`` function (and every `
 generic target) that a CUDA kernel calls as a device function from the same Python source, so the three
 kernels (engine/cuda_kernels.py: module-level, cached on disk) call the CPU's per-case bodies:
 :func:`fastbearing.engine.sweep.solve_into` (one case per thread, as sweep.solve_sweep does per case),
-:func:`fastbearing.engine.sweep.map_runs` (one continuation run of a map per thread, as sweep.map_sweep does per
-group) and :func:`fastbearing.engine.sweep.passage_point` (one operating point per thread): statuses, warm
-starts, the tangent/curved predictors along a map line, the high-speed balls, roller rows and the life variables
-are the CPU's code. The drivers here take and pass the same records as the CPU's (engine/contract.py); a
+:func:`fastbearing.engine.sweep.map_runs` (one GPU segment of a map per thread: a continuation run cut short,
+:func:`device_segments`; sweep.map_sweep runs whole runs per group) and
+:func:`fastbearing.engine.sweep.passage_point` (one operating point per thread): statuses, warm starts, the
+tangent/curved predictors along a map line, the high-speed balls, roller rows and the life variables are the
+CPU's code. The drivers here take and pass the same records as the CPU's (engine/contract.py); a
 thread's scratch is sized by the same contract.scratch_shape: the solver's and the predictor's as
-``cuda.local.array``, the per-element record, life sums and the balls' warm starts as one row per thread of a
-device array (:data:`ThreadRows`).
+``cuda.local.array``, the per-element record, life sums and the outer contacts' summary element-major (thread t's
+are column t of device arrays) and the balls' warm starts as one block per thread (:data:`ThreadRows`). A map's
+continuation runs are cut into GPU segments of at most :data:`SEGMENT_CASES` cases, one per thread, in blocks
+sized for the device (:func:`device_segments`, :func:`device_chunk`; docs/gpu.md).
 
 This module is imported only when a caller asks for ``device="cuda"``; :func:`require_cuda` says in one
 sentence what is missing (numba-cuda, a CUDA driver or a GPU). Under numba's CUDA simulator
@@ -49,6 +52,20 @@ THREADS_PER_BLOCK = 128
 MAX_THREADS = 1 << 20
 #: Device memory the per-thread scratch of one launch may take (bytes): bounds the threads at speed.
 SCRATCH_BYTES = 1 << 30
+#: Longest continuation segment one GPU thread runs in a map (cases): the CPU's runs (grid.segment_starts: a line,
+#: or LINE_SEGMENT cases of one) are cut into near-equal pieces of at most this many, each starting cold
+#: (:func:`device_segments`). Measured on the CPU (bench/gpu_segments.py, docs/gpu.md): pieces of 8 take 1.89 Newton
+#: iterations a case against 1.34 on the CPU's runs of 99 (about 1.2x the time; one case per thread, all cold:
+#: 5.09) and give the 1M example 131 300 threads (10: 1.75 and 101 000).
+SEGMENT_CASES = 8
+#: Threads of one map launch at least, where a block has more runs: a block's runs are split into launches of at
+#: least this many threads (at most MAX_PARTS), each on its own stream, so that one launch's copies back overlap
+#: the next one's compute. About four times the threads an H100/H200 keeps resident for this register-heavy code.
+PART_THREADS = 1 << 17
+#: Most launches (and streams) a map block is split into.
+MAX_PARTS = 4
+#: Cases per block of a map on the GPU at least (the config's chunk where larger): the 1M example in one block.
+DEVICE_CHUNK = 1 << 20
 
 
 #: numba.cuda once imported (:func:`_cuda`).
@@ -64,19 +81,25 @@ def _cuda():
 
 
 def kernel(kind: str):
-    """The CUDA kernel of ``kind`` ("solve", "map" or "passage"): engine/cuda_kernels.py's module-level kernels,
-    cached on disk by numba-cuda (imported here: it imports numba.cuda)."""
+    """The CUDA kernel of ``kind`` ("solve", "map", "passage" or "narrow"): engine/cuda_kernels.py's module-level
+    kernels, cached on disk by numba-cuda (imported here: it imports numba.cuda)."""
     _cuda()
     from . import cuda_kernels
 
     return {"solve": cuda_kernels.solve_kernel, "map": cuda_kernels.map_kernel,
-            "passage": cuda_kernels.passage_kernel}[kind]
+            "passage": cuda_kernels.passage_kernel, "narrow": cuda_kernels.narrow_kernel}[kind]
 
 
 # -- host side -------------------------------------------------------------------------------------------------------
 
-#: One launch's per-thread scratch in device memory, a row per thread (contract.Scratch's arrays but the solver's
-#: and the predictor's, which are each thread's local arrays): sized from contract.scratch_shape.
+#: One launch's per-thread scratch in device memory (contract.Scratch's arrays but the solver's and the predictor's,
+#: which are each thread's local arrays): sized from contract.scratch_shape. Element-major, the thread last, so that
+#: neighbouring threads touching the same element touch neighbouring addresses (the per-element record, written
+#: at every kernel evaluation, the life sums, the outer contacts' summary): ``ball_load``, ``contact_angle``
+#: (record, T), ``sums`` (life_rows, 2, T), ``outer_load``, ``outer_count`` (rows, T); thread t's are ``[..., t]``.
+#: The balls' warm starts ``spin`` (T, warm_rows, n_balls) stay thread-major: high_speed.py and four_point.py take
+#: a thread's as one contiguous block (``warm.reshape(warm.size)``, the flat scratch after the warm starts), which a
+#: strided view is not (docs/gpu.md).
 ThreadRows = namedtuple("ThreadRows", "ball_load contact_angle sums spin outer_load outer_count")
 
 
@@ -86,27 +109,35 @@ def thread_bytes(shape: ScratchShape, with_speed: bool) -> int:
     return 8 * (2 * shape.record + 2 * shape.life_rows + warm + 2 * shape.rows)
 
 
-def thread_rows(mem, shape: ScratchShape, n_threads: int, counts_dtype, with_speed: bool) -> ThreadRows:
-    """The ThreadRows of ``n_threads`` threads in ``mem`` (:class:`DeviceMemory`; the balls' warm starts zeroed:
-    every ball cold, new_warm)."""
+def thread_rows(mem, shape: ScratchShape, n_threads: int, counts_dtype, with_speed: bool, part: int = 0) -> ThreadRows:
+    """The ThreadRows of ``n_threads`` threads in ``mem`` (:class:`DeviceMemory`), launch ``part``'s own (each
+    launch of a block its own buffers, kept across blocks: concurrent launches never share a thread's scratch,
+    and every launch gets C-contiguous arrays, so one kernel specialisation serves them all); the balls' warm
+    starts zeroed: every ball cold, new_warm."""
     T = n_threads
     spin = np.zeros((T, shape.warm_rows, shape.n_balls) if with_speed else (T, 1, 1))
-    return ThreadRows(mem.buffer("ball_load", (T, shape.record)), mem.buffer("contact_angle", (T, shape.record)),
-                      mem.buffer("sums", (T, shape.life_rows, 2)), mem.data(spin),
-                      mem.buffer("outer_load", (T, shape.rows)), mem.buffer("outer_count", (T, shape.rows),
-                                                                            counts_dtype))
+    role = f"rows{part}."
+    return ThreadRows(mem.buffer(role + "ball_load", (shape.record, T)),
+                      mem.buffer(role + "contact_angle", (shape.record, T)),
+                      mem.buffer(role + "sums", (shape.life_rows, 2, T)), mem.data(spin),
+                      mem.buffer(role + "outer_load", (shape.rows, T)),
+                      mem.buffer(role + "outer_count", (shape.rows, T), counts_dtype))
 
 
 class DeviceMemory:
     """Where a launch's arrays live, kept across blocks (issue 46 item 2): ``table`` uploads a read-only table
     once per content (the element tables of a job, whichever block asks); ``buffer`` allocates a result or
     scratch array once per role, shape and dtype and hands the same one to the next block (the kernels write
-    every entry they read back, so nothing is copied there); ``data`` copies a block's own inputs each time.
-    One per process (:func:`device_memory`): at most one buffer per role and :data:`MAX_TABLES` tables."""
+    every entry they read back, so nothing is copied there); ``data`` copies a block's own inputs each time;
+    ``pin`` page-locks a host array the results are copied into, once per array (``pin_host``: None where
+    there is nothing to lock, as in the simulator), so that a copy on a stream is asynchronous; ``streams``
+    hands out the same CUDA streams block after block. One per process (:func:`device_memory`): at most one
+    buffer per role, :data:`MAX_TABLES` tables, and at most :data:`MAX_PINNED` locked host arrays of
+    :data:`PINNED_BYTES` together (the oldest let go first; :func:`release_device_memory` lets go of all)."""
 
-    def __init__(self, put, alloc):
-        self.put, self.alloc = put, alloc
-        self.tables, self.buffers = {}, {}
+    def __init__(self, put, alloc, pin_host=None, new_stream=None):
+        self.put, self.alloc, self.pin_host, self.new_stream = put, alloc, pin_host, new_stream
+        self.tables, self.buffers, self.pinned, self.held_streams = {}, {}, {}, []
 
     def table(self, a: np.ndarray):
         a = np.ascontiguousarray(a)
@@ -127,6 +158,33 @@ class DeviceMemory:
     def data(self, a: np.ndarray):
         return self.put(np.ascontiguousarray(a))
 
+    def pin(self, a: np.ndarray) -> None:
+        """Page-lock the host array ``a`` is a view of (the runner's block buffers: views of arrays it keeps for
+        the whole job), once; where locking fails the copies are merely synchronous."""
+        if self.pin_host is None:
+            return
+        base = a
+        while isinstance(base.base, np.ndarray):
+            base = base.base
+        key = (base.__array_interface__["data"][0], base.nbytes)
+        if key in self.pinned or not base.flags.c_contiguous or not 0 < base.nbytes <= PINNED_BYTES:
+            return
+        while self.pinned and (len(self.pinned) >= MAX_PINNED
+                               or sum(k[1] for k in self.pinned) + base.nbytes > PINNED_BYTES):
+            self.pinned.pop(next(iter(self.pinned)))   # unlocked when its last reference goes
+        try:
+            self.pinned[key] = self.pin_host(base)
+        except Exception:  # noqa: BLE001 - e.g. already registered by the caller: pageable, still right
+            self.pinned[key] = None
+
+    def streams(self, n: int) -> list:
+        """``n`` CUDA streams, the same ones for every block (0, the default stream, without ``new_stream``)."""
+        if self.new_stream is None:
+            return [0] * n
+        while len(self.held_streams) < n:
+            self.held_streams.append(self.new_stream())
+        return self.held_streams[:n]
+
 
 class HostMemory(DeviceMemory):
     """The same roles as plain host arrays, nothing kept: what :func:`compile_ptx` types the kernels from."""
@@ -143,6 +201,10 @@ class HostMemory(DeviceMemory):
 
 #: Most element tables one process keeps on the device (the oldest goes first).
 MAX_TABLES = 64
+#: Most host arrays one process keeps page-locked (two block buffers of a job's 20-odd variables fit).
+MAX_PINNED = 64
+#: Most host memory one process keeps page-locked (bytes): the 1M map's two block buffers take 0.7 GB.
+PINNED_BYTES = 1 << 33
 _MEMORY = None
 
 
@@ -150,8 +212,15 @@ def device_memory() -> DeviceMemory:
     """This process's DeviceMemory (numba.cuda's to_device and device_array)."""
     global _MEMORY
     if _MEMORY is None:
-        _MEMORY = DeviceMemory(_cuda().to_device, _cuda().device_array)
+        cuda = _cuda()
+        pin = None if simulated() else _page_lock
+        _MEMORY = DeviceMemory(cuda.to_device, cuda.device_array, pin, cuda.stream)
     return _MEMORY
+
+
+def _page_lock(a: np.ndarray):
+    """numba-cuda's registration of the host array ``a`` as page-locked memory (undone when it is dropped)."""
+    return cuda.current_context().mempin(a, a.ctypes.data, a.nbytes, mapped=False)
 
 
 def release_device_memory() -> None:
@@ -166,6 +235,25 @@ def _launch(n_work: int, per_thread_bytes: int, cap: int = MAX_THREADS) -> tuple
     tpb = min(THREADS_PER_BLOCK, n_threads)
     blocks = (n_threads + tpb - 1) // tpb
     return blocks, tpb
+
+
+def device_segments(segments: np.ndarray, longest: int = SEGMENT_CASES) -> np.ndarray:
+    """The GPU's continuation segments of a map block: every run of ``segments`` (grid.segment_starts: offsets of
+    the runs' first cases, then the block's size) cut into the fewest near-equal pieces of at most ``longest``
+    cases (a run of 99 into 13 of 7 or 8). Each piece is one GPU thread's and starts cold. A run is cut by its own
+    length alone, so the GPU's results do not depend on the block size either; the CPU keeps ``segments``."""
+    segments = np.asarray(segments, np.int64)
+    starts, lengths = segments[:-1], np.diff(segments)
+    pieces = np.maximum(-(-lengths // longest), 1)
+    run = np.repeat(np.arange(starts.shape[0]), pieces)
+    k = np.arange(run.shape[0]) - np.repeat(np.cumsum(pieces) - pieces, pieces)
+    return np.append(starts[run] + k * lengths[run] // pieces[run], segments[-1]).astype(np.int64)
+
+
+def device_chunk(chunk: int) -> int:
+    """A map's block size on the GPU (cases) for the config's ``chunk``: at least DEVICE_CHUNK (blocks sized for
+    the device: enough runs for PART_THREADS threads and more, results and inputs of a few 100 MB)."""
+    return max(int(chunk), DEVICE_CHUNK)
 
 
 def _part(a) -> np.ndarray:
@@ -206,15 +294,24 @@ def _inputs(mem, cases: CaseBlock, results):
                      ABSENT, ABSENT, results)
 
 
+def device_dtype(dtype) -> np.dtype:
+    """The kernels' dtype of a result the host holds in ``dtype``: float64 for every real value (a map stored in
+    float32 gets its float32 copy made on the device, :func:`_copy_back`), the host's own otherwise."""
+    dtype = np.dtype(dtype)
+    return np.dtype(np.float64) if dtype.kind == "f" else dtype
+
+
 def _outputs(mem, results):
     """A results record's device arrays, kept across blocks (not copied there: the kernels write every case's)."""
-    return type(results)(*(mem.buffer(f"results.{name}", a.shape, a.dtype) for name, a in zip(results._fields,
-                                                                                              results)))
+    return type(results)(*(mem.buffer(f"results.{name}", a.shape, device_dtype(a.dtype))
+                           for name, a in zip(results._fields, results)))
 
 
-#: One launch: thread blocks, threads per block and the device memory it holds (bytes: the element tables, the
-#: block's inputs and results, every thread's scratch rows).
-LaunchPlan = namedtuple("LaunchPlan", "blocks threads_per_block device_bytes")
+#: A block's launch: thread blocks, threads per block and the device memory it holds (bytes: the element tables,
+#: the block's inputs and results, every thread's scratch rows), and how many such launches the block makes (a
+#: map block with more than 2 x PART_THREADS threads: its parts, each on its own stream; ``blocks`` is then the
+#: largest part's).
+LaunchPlan = namedtuple("LaunchPlan", "blocks threads_per_block device_bytes launches", defaults=(1,))
 
 
 def nbytes(record) -> int:
@@ -234,44 +331,100 @@ def solve_plan(balls, cases) -> LaunchPlan:
     return LaunchPlan(blocks, tpb, nbytes(balls) + nbytes(cases) + blocks * tpb * per_thread)
 
 
-def map_plan(elements, cases) -> LaunchPlan:
-    """The map kernel's launch for the block ``cases``: one thread per continuation run, each with the scratch
-    rows contract.scratch_shape sizes (hosts can plan a device run from this without a GPU:
-    bench/gpu_bench.py --plan)."""
+#: A map block on the GPU (:func:`map_parts`): the GPU's continuation segments (:func:`device_segments`), every
+#: thread's scratch shape and bytes, and its launches, each (thread blocks, threads per block, first segment,
+#: end segment); each launch has its own scratch (:func:`thread_rows`).
+MapParts = namedtuple("MapParts", "segments shape per_thread launches")
+
+
+def map_parts(elements, cases) -> MapParts:
+    """How the map kernel runs the block ``cases``: its runs cut into GPU segments (one per thread), the
+    segments split into at most MAX_PARTS launches of at least PART_THREADS threads each (consecutive segments:
+    a launch's cases are one range of the block), each thread with its own scratch rows. The one place both
+    :func:`map_plan` and :func:`map_sweep_cuda` size a block."""
+    segments = device_segments(cases.segments)
     shape = scratch_shape(elements, cases)
     per_thread = thread_bytes(shape, elements.balls.speed_table is not None)
-    blocks, tpb = _launch(max(cases.segments.shape[0] - 1, 1), per_thread)
-    return LaunchPlan(blocks, tpb, nbytes(elements) + nbytes(cases) + blocks * tpb * per_thread)
+    n_segments = max(segments.shape[0] - 1, 1)
+    n_parts = min(max(n_segments // PART_THREADS, 1), MAX_PARTS)
+    bounds = np.arange(n_parts + 1) * n_segments // n_parts
+    launches = []
+    for a, b in zip(bounds[:-1], bounds[1:]):
+        blocks, tpb = _launch(int(b - a), per_thread * n_parts)   # the parts share SCRATCH_BYTES
+        launches.append((blocks, tpb, int(a), int(b)))
+    return MapParts(segments, shape, per_thread, launches)
+
+
+def map_plan(elements, cases) -> LaunchPlan:
+    """The map kernel's launches for the block ``cases`` (:func:`map_parts`; hosts can plan a device run from this
+    without a GPU: bench/gpu_bench.py --plan): the largest launch's thread blocks, the device memory of the
+    block (element tables, inputs, GPU segments, results in the kernels' dtypes and their float32 copies,
+    every thread's scratch rows) and the number of launches."""
+    parts = map_parts(elements, cases)
+    results = cases.results
+    device_results = sum(a.size * device_dtype(a.dtype).itemsize for a in results)
+    narrowed = sum(a.nbytes for a in results if device_dtype(a.dtype) != a.dtype)
+    rows = sum(blocks * tpb for blocks, tpb, *_ in parts.launches)
+    blocks, tpb = max((p[:2] for p in parts.launches), key=lambda p: p[0] * p[1])
+    return LaunchPlan(blocks, tpb, nbytes(elements) + nbytes(cases[:-1]) + parts.segments.nbytes + device_results
+                      + narrowed + rows * parts.per_thread, len(parts.launches))
 
 
 def _solve_args(mem, balls, cases, settings, warm):
     """(blocks, threads per block, the solve kernel's arguments, the device results) in ``mem``."""
-    blocks, tpb, _ = solve_plan(balls, cases)
+    blocks, tpb = solve_plan(balls, cases)[:2]
     spin_all = mem.data(warm_starts(balls, blocks * tpb))
     outs = _outputs(mem, cases.results)._replace(q=mem.data(cases.results.q))  # the warm starts
     args = (device_elements(mem, balls), _inputs(mem, cases, outs), spin_all, settings, bool(warm))
     return blocks, tpb, args, outs
 
 
-def _map_args(mem, elements, cases, given_load, settings):
-    """(blocks, threads per block, the map kernel's arguments, the device results) in ``mem``: one thread per
-    continuation run, each with its ThreadRows row."""
-    shape = scratch_shape(elements, cases)
+def _map_launches(mem, elements, cases, given_load, settings):
+    """([(thread blocks, threads per block, the map kernel's arguments, (first case, end case))] one per launch
+    of :func:`map_parts`, the device results) in ``mem``: each launch gets its own range of the GPU's segments
+    and its own scratch (:func:`thread_rows` of its part), the rest is the block's."""
+    parts = map_parts(elements, cases)
     with_speed = elements.balls.speed_table is not None
-    blocks, tpb, _ = map_plan(elements, cases)
     outs = _outputs(mem, cases.results)
-    rows = thread_rows(mem, shape, blocks * tpb, cases.results.n_loaded.dtype, with_speed)
-    args = (device_tables(mem, elements), _inputs(mem, cases, outs), bool(given_load), settings,
-            mem.data(np.zeros(1, np.int64)), rows)
-    return blocks, tpb, args, outs
+    dev_cases = _inputs(mem, cases._replace(segments=parts.segments), outs)
+    tables, stop = device_tables(mem, elements), mem.data(np.zeros(1, np.int64))
+    launches = []
+    for part, (blocks, tpb, a, b) in enumerate(parts.launches):
+        mine = thread_rows(mem, parts.shape, blocks * tpb, cases.results.n_loaded.dtype, with_speed, part)
+        args = (tables, dev_cases._replace(segments=dev_cases.segments[a:b + 1]), bool(given_load), settings, stop,
+                mine)
+        launches.append((blocks, tpb, args, (int(parts.segments[a]), int(parts.segments[b]))))
+    return launches, outs
 
 
-def _copy_back(host, dev, wanted=None) -> None:
-    """Every device array of the results record ``dev`` into its host twin in ``host``; with ``wanted`` (a record
-    of bools of the same fields) only those (the stored variables: issue 46 item 2)."""
-    for i, (h, d) in enumerate(zip(host, dev)):
-        if wanted is None or wanted[i]:
-            d.copy_to_host(h)
+def _copy_back(mem, host, dev, span, stream, wanted=None) -> None:
+    """Cases ``span`` (first, end) of every device array of the results record ``dev`` into its host twin in
+    ``host``, queued on ``stream``; with ``wanted`` (a record of bools of the same fields) only those (the stored
+    variables: issue 46 item 2). A host array in float32 (a map stored so: the runner's buffers are) gets the
+    device's float32 copy, made there (:func:`narrow`). A placeholder (a (1, ...) output the map does not
+    keep) is not copied."""
+    first, end = span
+    n = dev.status.shape[0]
+    for i, (name, h, d) in enumerate(zip(host._fields, host, dev)):
+        if (wanted is not None and not wanted[i]) or h.shape[0] != n or end <= first:
+            continue
+        if h.dtype != d.dtype:
+            d = narrow(mem, name, d, h.dtype, span, stream)
+        mem.pin(h)
+        d[first:end].copy_to_host(h[first:end], stream=stream)
+
+
+def narrow(mem, name: str, d, dtype, span, stream):
+    """The device array ``d`` (float64) with cases ``span`` converted to ``dtype`` (float32) on the device, in a
+    buffer kept for ``name``, queued on ``stream``: round to nearest like numpy's cast, so the file holds the
+    same bits whichever side converts; beyond float32's range +-inf, as the cast."""
+    first, end = span
+    out = mem.buffer(f"narrow.{name}", d.shape, dtype)
+    size = (end - first) * int(np.prod(d.shape[1:], dtype=np.int64))
+    src, dst = d[first:end].reshape(size), out[first:end].reshape(size)
+    blocks = min((src.shape[0] + THREADS_PER_BLOCK - 1) // THREADS_PER_BLOCK, 4096)
+    kernel("narrow")[max(blocks, 1), THREADS_PER_BLOCK, stream](src, dst)
+    return out
 
 
 def solve_sweep_cuda(balls, cases, settings, warm):
@@ -285,22 +438,30 @@ def solve_sweep_cuda(balls, cases, settings, warm):
         return
     blocks, tpb, args, outs = _solve_args(device_memory(), balls, cases, settings, warm)
     kernel("solve")[blocks, tpb](*args)
-    _copy_back(cases.results, outs)
+    for h, d in zip(cases.results, outs):
+        d.copy_to_host(h)
 
 
 def map_sweep_cuda(elements, cases, given_load, settings, stop, wanted=None):
     """sweep.map_sweep on the GPU, in place, with the same arguments and results (contract.Elements, a
-    contract.CaseBlock of contract.Results): one thread per continuation run (``cases.segments``; loads in N,
-    N*mm or displacements in mm, rad; speeds rad/s). ``stop[0] != 0`` before the launch leaves the block
-    untouched (incomplete); Ctrl-C during a launch is seen at the next block. ``wanted`` (a contract.Results of
-    bools; None: all) names the outputs copied back; the others stay as they were on the host. CudaUnavailable
-    without a usable GPU."""
+    contract.CaseBlock of contract.Results; loads in N, N*mm or displacements in mm, rad; speeds rad/s), but its
+    own segmentation: the CPU's continuation runs (``cases.segments``) cut into GPU segments of at most
+    SEGMENT_CASES cases, one per thread, each starting cold (:func:`device_segments`), in one launch or, with
+    more than 2 x PART_THREADS segments, a few on their own streams, each launch's copies back queued behind it
+    (so they overlap the next launch's compute). ``stop[0] != 0`` before the launch leaves the block untouched
+    (incomplete); Ctrl-C during a launch is seen at the next block. ``wanted`` (a contract.Results of bools; None:
+    all) names the outputs copied back; the others stay as they were on the host; a float32 host array gets
+    float32 made on the device. CudaUnavailable without a usable GPU."""
     require_cuda()
     if cases.segments.shape[0] <= 1 or stop[0] != 0:
         return
-    blocks, tpb, args, outs = _map_args(device_memory(), elements, cases, given_load, settings)
-    kernel("map")[blocks, tpb](*args)
-    _copy_back(cases.results, outs, wanted)
+    mem = device_memory()
+    launches, outs = _map_launches(mem, elements, cases, given_load, settings)
+    streams = mem.streams(len(launches))
+    for (blocks, tpb, args, span), stream in zip(launches, streams):
+        kernel("map")[blocks, tpb, stream](*args)
+        _copy_back(mem, cases.results, outs, span, stream, wanted)
+    _cuda().synchronize()   # every launch and copy of the block, whichever stream
 
 
 def passage_sweep_cuda(elements, positions, cases, given_load, settings, stop):
@@ -323,7 +484,8 @@ def passage_sweep_cuda(elements, positions, cases, given_load, settings, stop):
     rows = thread_rows(mem, shape, blocks * tpb, cases.results.n_loaded.dtype, with_speed)
     kernel("passage")[blocks, tpb](device_tables(mem, elements), dev_positions, _inputs(mem, cases, outs),
                                    bool(given_load), settings, rows)
-    _copy_back(cases.results, outs)
+    for h, d in zip(cases.results, outs):
+        d.copy_to_host(h)
 
 
 def compile_ptx(kind: str, example_args: tuple, cc=(9, 0)) -> str:
@@ -338,7 +500,7 @@ def compile_ptx(kind: str, example_args: tuple, cc=(9, 0)) -> str:
     if kind == "solve":
         args = _solve_args(HostMemory(), *example_args)[2]
     else:
-        args = _map_args(HostMemory(), *example_args[:4])[2]
+        args = _map_launches(HostMemory(), *example_args[:4])[0][0][2]
     sig = tuple(numba.typeof(a) for a in args)
     ptx, _ = cuda.compile_ptx(kernel(kind).py_func, sig, cc=cc)
     return ptx

@@ -362,16 +362,36 @@ def job(cfg: LoadMapConfig, device: str = "cpu") -> jobs.Job:
                  "row_dynamic_load_rating_N": r.C_row, "contact_rating_inner_N": r.Q_ci,
                  "contact_rating_outer_N": r.Q_ce}
     stored = jobs.check_stored(cfg.variables, variables, "loadmap.variables")
+    chunk, fingerprint, narrow = cfg.chunk, cfg.fingerprint, ()
+    if device == "cuda":
+        chunk, fingerprint, narrow = _device_blocks(cfg, variables, stored, life is not None)
     return jobs.Job(
         kind="load map", bearing=cfg.bearing, cases=cfg.cases,
         variables=tuple(variables), attrs=attrs,
         sizes={"dof": 5, "dof_col": 5, "row": cfg.bearing.n_rows},
         compute=partial(compute_block, cfg.bearing, given_load, cfg.cases.line_length, settings, life,
                         cfg.cases.max_speed > 0, device=device, stored=stored, varying=varying),
-        settings=settings, method=cfg.method, chunk=cfg.chunk, text=cfg.text, source=cfg.source,
-        fingerprint=cfg.fingerprint, compression=cfg.compression, line_length=cfg.cases.line_length,
+        settings=settings, method=cfg.method, chunk=chunk, text=cfg.text, source=cfg.source,
+        fingerprint=fingerprint, compression=cfg.compression, line_length=cfg.cases.line_length,
         kernel="engine.gpu.map_sweep_cuda" if device == "cuda" else "engine.sweep.map_sweep",
-        stored=stored, dtype=cfg.dtype)
+        stored=stored, dtype=cfg.dtype, narrow=narrow)
+
+
+def _device_blocks(cfg: LoadMapConfig, variables, stored, life: bool):
+    """The GPU's (chunk, fingerprint, narrow) of a map: blocks sized for the device (engine.gpu.device_chunk),
+    a fingerprint that tells them from the CPU's blocks where they differ (a run is resumed only with the same
+    blocks: --resume on the other device is refused as another config), and the stored float32 variables the GPU
+    converts itself (the engine's outputs the host does not read again: with life, f and L10r make the ISO
+    lives in float64)."""
+    from ..engine.gpu import device_chunk  # no numba.cuda import: the sizes only
+
+    chunk = device_chunk(cfg.chunk)
+    fingerprint = cfg.fingerprint if chunk == cfg.chunk else f"{cfg.fingerprint}-gpu-chunk-{chunk}"
+    narrow = ()
+    if cfg.dtype == "float32":
+        kept = {v.name for v in variables if v.dtype.startswith("f") and (stored is None or v.name in stored)}
+        narrow = tuple(n for n in RESULT_FIELDS if n in kept and not (life and n in ("f", "L10r")))
+    return chunk, fingerprint, narrow
 
 
 def loadmap(config, output=None, *, threads=None, resume=False, overwrite=False, progress=None,
@@ -417,6 +437,9 @@ def loadmap(config, output=None, *, threads=None, resume=False, overwrite=False,
     if device == "cuda" and client is not None:
         raise ValueError("device = 'cuda' runs on this machine's GPU; a Dask run on GPU workers is not built yet "
                          "(run --device cuda without --dask, or the CPU workers with --dask)")
+    if device == "cuda" and cfg.mounted is not None:
+        raise ValueError("device = 'cuda': a map whose cases vary the bearing (a mounted bearing over several speeds "
+                         "or temperature axes) runs on the CPU for now; run it without --device cuda")
     if device == "cuda":
         require_cuda()
     out = jobs.run(job(cfg, device), jobs.output_path(output, cfg.source), threads=threads, resume=resume,

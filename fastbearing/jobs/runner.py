@@ -93,6 +93,14 @@ class Job:
     kernel: str = ""                         # the sweep compute runs, "engine.sweep.map_sweep": to tell of compiling
     stored: tuple[str, ...] | None = None    # the variables the file keeps (None: all); compute fills them all
     dtype: str = "float64"                   # the stored dtype of the real-valued variables
+    narrow: tuple[str, ...] = ()             # variables compute fills in their stored dtype (the GPU, on the device)
+
+    @property
+    def buffer_variables(self) -> tuple[storage.Variable, ...]:
+        """The variables as a block's buffers hold them: ``narrow`` ones in their stored dtype (compute fills them
+        so, and kept() passes them on uncast), the others as computed."""
+        stored = {v.name: v for v in self.stored_variables}
+        return tuple(stored[v.name] if v.name in self.narrow else v for v in self.variables)
 
     @property
     def stored_variables(self) -> tuple[storage.Variable, ...]:
@@ -313,7 +321,7 @@ def _compute(job: Job, store, blocks, threads, progress, client, max_in_flight) 
             if client is None:
                 size = max(b.size for b in blocks)
                 # two buffer sets: one being computed, one being written
-                writer = storage.BlockWriter(pf, [Buffers(job.variables, job.sizes, size) for _ in range(2)],
+                writer = storage.BlockWriter(pf, [Buffers(job.buffer_variables, job.sizes, size) for _ in range(2)],
                                              on_written)
                 _run_here(job, pending, writer, interrupt, threads)
             else:
