@@ -97,7 +97,37 @@ def scenarios(rng):
             "map_speed_life": lambda: compare_maps("speed_life"), "passage_ball": passage_ball,
             "map_segments": map_segments, "map_float32": lambda: map_float32("k_only"),
             "map_float32_life": lambda: map_float32("life"),
-            "passage_roller_speed": passage_roller_speed}
+            "passage_roller_speed": passage_roller_speed, "montecarlo": lambda: compare_montecarlo(0.0),
+            "montecarlo_balls": lambda: compare_montecarlo(0.002)}
+
+
+MONTECARLO = {"name": "6205", "arrangement": "single",
+              "geometry": {"n_balls": 9, "ball_diameter": 7.938, "pitch_diameter": 38.5, "inner_groove_ratio": 0.52,
+                           "outer_groove_ratio": 0.53, "diametral_clearance": "CN", "bore": 25.0,
+                           "outer_diameter": 52.0, "width": 15.0},
+              "mounting": {"shaft_fit": "k5", "housing_fit": "H7", "inner_ring_temperature": 50.0}}
+
+
+def compare_montecarlo(variation):
+    """fastbearing montecarlo of the 6205 on k5 / H7 (40 samples at rest, ``variation``: each ball's diameter
+    spread, mm) on both devices: the drawn inputs and operating clearances equal bit for bit, statuses equal,
+    q and Kb to the solver's tolerance (the GPU cuts the clearance-ordered runs into segments of its own)."""
+    import h5py
+
+    from fastbearing.jobs.montecarlo import montecarlo
+
+    cfg = {"bearing": MONTECARLO, "montecarlo": {"samples": 40, "seed": 3, "Fx": 2000.0, "Fz": 200.0, "life": True,
+                                                  "ball_diameter_variation": variation}}
+    with tempfile.TemporaryDirectory() as tmp:
+        paths = [montecarlo(cfg, Path(tmp) / f"mc-{d}.h5", progress=False, device=d)[0] for d in ("cpu", "cuda")]
+        with h5py.File(paths[0]) as a, h5py.File(paths[1]) as b:
+            inputs = [k for k in a if k.endswith("_deviation") or k.startswith("operating_")
+                      or k == "unmounted_diametral_clearance"]
+            ok = st.converged_mask(a["status"][()])
+            return {"cpu_status": a["status"][()].tolist(), "gpu_status": b["status"][()].tolist(),
+                    "inputs_equal": all(np.array_equal(a[k][()], b[k][()]) for k in inputs), "inputs": inputs,
+                    "q": relative(b["q"][()], a["q"][()], ok), "K": relative(b["K"][()], a["K"][()], ok),
+                    "L10r": relative(b["L10r"][()], a["L10r"][()], ok)}
 
 
 def main(wanted):

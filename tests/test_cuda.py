@@ -33,8 +33,10 @@ def _env(**extra):
 #: numba cache). FASTBEARING_CUDASIM_ALL=1 adds the balls at speed, the roller bearing and the speed map with life
 #: (about 2 more minutes from an empty cache: they compile the CPU's speed and roller kernels for the simulator's
 #: own entry points); bench/gpu_bench.py --simulate runs speed and roller maps too.
-QUICK = ("cold_ball", "warm_ball", "broyden_fixed", "map_ball", "passage_ball", "map_segments", "map_float32")
-ALL = QUICK + ("speed_ball", "roller", "map_speed_life", "passage_roller_speed", "map_float32_life")
+QUICK = ("cold_ball", "warm_ball", "broyden_fixed", "map_ball", "passage_ball", "map_segments", "map_float32",
+         "montecarlo")
+ALL = QUICK + ("speed_ball", "roller", "map_speed_life", "passage_roller_speed", "map_float32_life",
+               "montecarlo_balls")
 SCENARIOS = ALL if os.environ.get("FASTBEARING_CUDASIM_ALL") == "1" else QUICK
 
 
@@ -93,6 +95,17 @@ def test_simulated_passage_tables_match_the_cpu(simulated, name):
         assert table["gpu_status"] == table["cpu_status"]
         assert max(table["max_relative"].values()) <= 1e-10, table["max_relative"]
         assert table["residual"] <= 1e-14
+
+
+@needs_numba_cuda
+@pytest.mark.parametrize("name", ["montecarlo", "montecarlo_balls"])
+def test_simulated_montecarlo_matches_the_cpu(simulated, name):
+    """Cases with their own operating values on the GPU (each thread its own tables, gpu.thread_rows): a Monte
+    Carlo run's samples, with each ball its own diameter under FASTBEARING_CUDASIM_ALL=1."""
+    r = _scenario(simulated, name)
+    assert r["gpu_status"] == r["cpu_status"] and r["inputs_equal"]
+    assert {"operating_diametral_clearance", "bore_deviation"} <= set(r["inputs"])
+    assert r["q"] < 1e-8 and r["K"] < 1e-8 and r["L10r"] < 1e-7, r
 
 
 def test_refusal_names_numba_cuda_when_it_is_missing(monkeypatch):

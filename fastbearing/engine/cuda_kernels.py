@@ -82,13 +82,38 @@ def element_set(tables, spin_all, t):
 
 
 @njit(inline="always")
-def thread_scratch(work, predictor, rows, t, spin):
+def thread_scratch(work, predictor, rows, t, balls):
     """Thread t's contract.Scratch: its local ``work`` and ``predictor`` arrays, its column of the launch's
-    element-major gpu.ThreadRows ``rows`` (strided views: neighbouring threads, neighbouring addresses) and its
-    balls' warm starts ``spin`` (None quasi-static); no own tables (no per-case operating values on the GPU yet:
-    gpu._inputs)."""
-    return Scratch(work, predictor, rows.ball_load[:, t], rows.contact_angle[:, t], rows.sums[:, :, t], spin,
-                   rows.outer_load[:, t], rows.outer_count[:, t], None, None)
+    element-major gpu.ThreadRows ``rows`` (strided views: neighbouring threads, neighbouring addresses), its
+    balls' warm starts (``balls.warm``, None quasi-static) and, in a block whose cases carry their own operating
+    values, its own copies of the ball and slice tables (rows.table[t], rows.slices[t], filled from ``balls``';
+    None where ABSENT)."""
+    return Scratch(work, predictor, rows.ball_load[:, t], rows.contact_angle[:, t], rows.sums[:, :, t], balls.warm,
+                   rows.outer_load[:, t], rows.outer_count[:, t], own_copy(rows.table, t, balls.balls),
+                   own_copy(rows.slices, t, balls.slices))
+
+
+def own_copy(part, t, base):
+    """Thread t's own copy of the table ``base`` (``part[t]``, filled from it), or None where ``part`` is
+    contract.ABSENT (chosen while typing; this body runs in the simulator's Python kernels)."""
+    if _absent(part):
+        return None
+    part[t][...] = base
+    return part[t]
+
+
+@overload(own_copy, inline="always")
+def _own_copy(part, t, base):
+    if isinstance(part, types.Array) and part.dtype == types.boolean:
+        return lambda part, t, base: None
+
+    def copy(part, t, base):
+        mine = part[t]
+        for i in range(base.shape[0]):
+            for j in range(base.shape[1]):
+                mine[i, j] = base[i, j]
+        return mine
+    return copy
 
 
 @njit(inline="always")
@@ -139,7 +164,7 @@ def map_kernel(elements, cases, given_load, settings, stop, rows):
     elements, cases, stop, rows = native(elements), case_block(native(cases)), native(stop), native(rows)
     balls = element_set(elements.balls, rows.spin, t)
     mine = Elements(balls, elements.ball_row, elements.life, elements.C0)
-    scratch = thread_scratch(work, predictor, rows, t, balls.warm)
+    scratch = thread_scratch(work, predictor, rows, t, balls)
     for run in range(t, cases.segments.shape[0] - 1, n_threads):
         map_run(run, mine, cases, given_load, settings, stop, scratch)
 
@@ -155,7 +180,7 @@ def passage_kernel(elements, positions, cases, given_load, settings, rows):
     balls = element_set(elements.balls, rows.spin, t)
     mine = Elements(balls, elements.ball_row, elements.life, elements.C0)
     at = Positions(positions.tables, present(positions.slices), present(positions.speed_tables))
-    scratch = thread_scratch(work, work, rows, t, balls.warm)   # no predictor in a passage table
+    scratch = thread_scratch(work, work, rows, t, balls)   # no predictor in a passage table
     for i in range(t, cases.inputs.shape[0], n_threads):
         passage_point(i, mine, at, cases, given_load, settings, scratch)
 

@@ -100,28 +100,46 @@ def kernel(kind: str):
 #: The balls' warm starts ``spin`` (T, warm_rows, n_balls) stay thread-major: high_speed.py and four_point.py take
 #: a thread's as one contiguous block (``warm.reshape(warm.size)``, the flat scratch after the warm starts), which a
 #: strided view is not (docs/gpu.md).
-ThreadRows = namedtuple("ThreadRows", "ball_load contact_angle sums spin outer_load outer_count")
+#: ``table`` (T, N_BALL_COLUMNS, n_balls) and ``slices`` (T, N_SLICE_COLUMNS, n_slices): each thread's own copies
+#: of the element tables where a block's cases carry their own operating values (CaseBlock.operating; the kernel
+#: fills them from the shared tables, then sweep.with_operating writes each case's values), contract.ABSENT else.
+ThreadRows = namedtuple("ThreadRows", "ball_load contact_angle sums spin outer_load outer_count table slices")
 
 
-def thread_bytes(shape: ScratchShape, with_speed: bool) -> int:
-    """Device memory of one thread's ThreadRows (bytes) for a Scratch of ``shape``."""
+def own_table_bytes(balls, cases) -> int:
+    """Device memory of one thread's own tables (bytes): the ball and slice tables where ``cases`` carry their
+    own operating values, else 0."""
+    if cases.operating is None:
+        return 0
+    return balls.balls.nbytes + (balls.slices.nbytes if balls.slices is not None else 0)
+
+
+def thread_bytes(shape: ScratchShape, with_speed: bool, own: int = 0) -> int:
+    """Device memory of one thread's ThreadRows (bytes) for a Scratch of ``shape`` (``own``: its own tables')."""
     warm = shape.warm_rows * shape.n_balls if with_speed else 0
-    return 8 * (2 * shape.record + 2 * shape.life_rows + warm + 2 * shape.rows)
+    return 8 * (2 * shape.record + 2 * shape.life_rows + warm + 2 * shape.rows) + own
 
 
-def thread_rows(mem, shape: ScratchShape, n_threads: int, counts_dtype, with_speed: bool, part: int = 0) -> ThreadRows:
+def thread_rows(mem, shape: ScratchShape, n_threads: int, counts_dtype, with_speed: bool, part: int = 0,
+                own=None) -> ThreadRows:
     """The ThreadRows of ``n_threads`` threads in ``mem`` (:class:`DeviceMemory`), launch ``part``'s own (each
     launch of a block its own buffers, kept across blocks: concurrent launches never share a thread's scratch,
     and every launch gets C-contiguous arrays, so one kernel specialisation serves them all); the balls' warm
-    starts zeroed: every ball cold, new_warm."""
+    starts zeroed: every ball cold, new_warm. ``own``: None, or the element set whose ball and slice tables each
+    thread copies (a block whose cases carry their own operating values)."""
     T = n_threads
     spin = np.zeros((T, shape.warm_rows, shape.n_balls) if with_speed else (T, 1, 1))
     role = f"rows{part}."
+    table = slices = mem.table(ABSENT)
+    if own is not None:
+        table = mem.buffer(role + "table", (T,) + own.balls.shape)
+        if own.slices is not None:
+            slices = mem.buffer(role + "slices", (T,) + own.slices.shape)
     return ThreadRows(mem.buffer(role + "ball_load", (shape.record, T)),
                       mem.buffer(role + "contact_angle", (shape.record, T)),
                       mem.buffer(role + "sums", (shape.life_rows, 2, T)), mem.data(spin),
                       mem.buffer(role + "outer_load", (shape.rows, T)),
-                      mem.buffer(role + "outer_count", (shape.rows, T), counts_dtype))
+                      mem.buffer(role + "outer_count", (shape.rows, T), counts_dtype), table, slices)
 
 
 class DeviceMemory:
@@ -286,12 +304,10 @@ def warm_starts(balls: ElementSet, n_threads: int) -> np.ndarray:
 
 
 def _inputs(mem, cases: CaseBlock, results):
-    """``cases`` with its inputs, segments and speeds copied into ``mem`` and ``results`` in place of its own."""
-    if cases.operating is not None or cases.ball_sizes is not None:
-        raise ValueError("device='cuda': cases with their own operating clearance and preload (a mounted bearing "
-                         "over temperatures or speeds, montecarlo) run on the CPU for now; use device='cpu'")
+    """``cases`` with its inputs, segments, speeds and own operating values (ABSENT where None) copied into
+    ``mem`` and ``results`` in place of its own."""
     return CaseBlock(mem.data(cases.inputs), mem.data(cases.segments), mem.data(np.asarray(cases.speeds, np.float64)),
-                     ABSENT, ABSENT, results)
+                     mem.data(_part(cases.operating)), mem.data(_part(cases.ball_sizes)), results)
 
 
 def device_dtype(dtype) -> np.dtype:
@@ -344,7 +360,7 @@ def map_parts(elements, cases) -> MapParts:
     :func:`map_plan` and :func:`map_sweep_cuda` size a block."""
     segments = device_segments(cases.segments)
     shape = scratch_shape(elements, cases)
-    per_thread = thread_bytes(shape, elements.balls.speed_table is not None)
+    per_thread = thread_bytes(shape, elements.balls.speed_table is not None, own_table_bytes(elements.balls, cases))
     n_segments = max(segments.shape[0] - 1, 1)
     n_parts = min(max(n_segments // PART_THREADS, 1), MAX_PARTS)
     bounds = np.arange(n_parts + 1) * n_segments // n_parts
@@ -372,6 +388,9 @@ def map_plan(elements, cases) -> LaunchPlan:
 
 def _solve_args(mem, balls, cases, settings, warm):
     """(blocks, threads per block, the solve kernel's arguments, the device results) in ``mem``."""
+    if cases.operating is not None or cases.ball_sizes is not None:
+        raise ValueError("device='cuda': solve_many with each case's own clearance, preload or temperatures runs on "
+                         "the CPU for now (load maps and montecarlo take them on the GPU); use device='cpu'")
     blocks, tpb = solve_plan(balls, cases)[:2]
     spin_all = mem.data(warm_starts(balls, blocks * tpb))
     outs = _outputs(mem, cases.results)._replace(q=mem.data(cases.results.q))  # the warm starts
@@ -390,7 +409,8 @@ def _map_launches(mem, elements, cases, given_load, settings):
     tables, stop = device_tables(mem, elements), mem.data(np.zeros(1, np.int64))
     launches = []
     for part, (blocks, tpb, a, b) in enumerate(parts.launches):
-        mine = thread_rows(mem, parts.shape, blocks * tpb, cases.results.n_loaded.dtype, with_speed, part)
+        mine = thread_rows(mem, parts.shape, blocks * tpb, cases.results.n_loaded.dtype, with_speed, part,
+                           elements.balls if cases.operating is not None else None)
         args = (tables, dev_cases._replace(segments=dev_cases.segments[a:b + 1]), bool(given_load), settings, stop,
                 mine)
         launches.append((blocks, tpb, args, (int(parts.segments[a]), int(parts.segments[b]))))

@@ -437,9 +437,6 @@ def loadmap(config, output=None, *, threads=None, resume=False, overwrite=False,
     if device == "cuda" and client is not None:
         raise ValueError("device = 'cuda' runs on this machine's GPU; a Dask run on GPU workers is not built yet "
                          "(run --device cuda without --dask, or the CPU workers with --dask)")
-    if device == "cuda" and cfg.mounted is not None:
-        raise ValueError("device = 'cuda': a map whose cases vary the bearing (a mounted bearing over several speeds "
-                         "or temperature axes) runs on the CPU for now; run it without --device cuda")
     if device == "cuda":
         require_cuda()
     out = jobs.run(job(cfg, device), jobs.output_path(output, cfg.source), threads=threads, resume=resume,

@@ -186,9 +186,11 @@ class Sampler:
 
 
 def compute_block(sampler: Sampler, line_length: int, settings, life, spinning: bool, inputs: np.ndarray,
-                  res: dict, first: int, stop: np.ndarray) -> None:
+                  res: dict, first: int, stop: np.ndarray, device: str = "cpu") -> None:
     """One block of samples (first .. first + n - 1) into ``res``: drawn, budgeted, solved in order of their
-    operating clearance (continuation runs between near neighbours), stored in sample order."""
+    operating clearance (continuation runs between near neighbours), stored in sample order. ``device`` "cuda":
+    solved on the GPU (engine.gpu.map_sweep_cuda: its own shorter continuation segments, so results agree with
+    the CPU's to the solver's tolerance, not bit for bit)."""
     n = inputs.shape[0]
     samples, rL, d0 = sampler.operating(first, n)
     for name, values in samples.items():
@@ -207,7 +209,12 @@ def compute_block(sampler: Sampler, line_length: int, settings, life, spinning: 
     outside = ~valid
     cases = cases._replace(inputs=np.where(outside[:, None], np.nan, cases.inputs), operating=table,
                            ball_sizes=None if sizes is None else np.ascontiguousarray(sizes[order]))
-    map_sweep(elements, cases, True, settings, stop)
+    if device == "cuda":
+        from ..engine.gpu import map_sweep_cuda  # numba.cuda is imported only here
+
+        map_sweep_cuda(elements, cases, True, settings, stop)
+    else:
+        map_sweep(elements, cases, True, settings, stop)
     if stop[0] != 0:
         return
     back = np.empty(n, np.int64)
@@ -241,8 +248,8 @@ def zone_variables(zones) -> list:
                "comment": "drawn uniformly and independently within its zone"}) for z in zones]
 
 
-def job(cfg: MonteCarloConfig) -> jobs.Job:
-    """The Monte Carlo run as a job for the runner (blocks = the draw blocks)."""
+def job(cfg: MonteCarloConfig, device: str = "cpu") -> jobs.Job:
+    """The Monte Carlo run as a job for the runner (blocks = the draw blocks), on ``device``."""
     base = replace(cfg.bearing, mounting=None)
     settings = solver_settings(base, cfg.method, cfg.rtol, cfg.max_iter)
     cases = cfg.cases
@@ -274,10 +281,12 @@ def job(cfg: MonteCarloConfig) -> jobs.Job:
     return jobs.Job(
         kind="Monte Carlo run", bearing=base, cases=cases, variables=tuple(variables), attrs=attrs,
         sizes=sizes, own_dims=own_dims,
-        compute=partial(compute_block, sampler, cases.line_length, settings, life, cfg.speed > 0),
+        compute=partial(compute_block, sampler, cases.line_length, settings, life, cfg.speed > 0, device=device),
         settings=settings, method=cfg.method, chunk=DRAW_BLOCK, text=cfg.text, source=cfg.source,
-        fingerprint=cfg.fingerprint, compression=cfg.compression, line_length=cases.line_length,
-        kernel="engine.sweep.map_sweep", stored=stored, dtype=cfg.dtype, case_word="sample")
+        # a GPU's shorter segments give other (equally converged) bits: a run is resumed on the device it began on
+        fingerprint=cfg.fingerprint + ("-gpu" if device == "cuda" else ""), compression=cfg.compression,
+        line_length=cases.line_length, kernel="engine.gpu.map_sweep_cuda" if device == "cuda" else "engine.sweep.map_sweep",
+        stored=stored, dtype=cfg.dtype, case_word="sample")
 
 
 def montecarlo(config, output=None, *, threads=None, resume=False, overwrite=False, progress=None, client=None,
@@ -291,10 +300,14 @@ def montecarlo(config, output=None, *, threads=None, resume=False, overwrite=Fal
     The summary (:func:`summarize`) is also written into the file's attributes (``summary_json``)."""
     cfg = config if isinstance(config, MonteCarloConfig) else read_config(config)
     device = validate.choice(device, "device", DEVICES)
+    if device == "cuda" and client is not None:
+        raise ValueError("montecarlo: device = 'cuda' runs on this machine's GPU; a Dask run on GPU workers is not "
+                         "built (run --device cuda without --dask, or the CPU workers with --dask)")
     if device == "cuda":
-        raise ValueError("montecarlo: device = 'cuda' is not built yet (the GPU kernels take one clearance per "
-                         "run, not one per sample); run it on the CPU or with --dask")
-    out = jobs.run(job(cfg), jobs.output_path(output, cfg.source), threads=threads, resume=resume,
+        from ..engine.device import require_cuda
+
+        require_cuda()
+    out = jobs.run(job(cfg, device), jobs.output_path(output, cfg.source), threads=threads, resume=resume,
                    overwrite=overwrite, progress=progress, client=client, max_in_flight=max_in_flight)
     summary = summarize(out)
     storage.add_file_attributes(out, {"summary_json": json.dumps(summary)})
