@@ -155,9 +155,20 @@ def test_a_bearing_without_mounting_or_zones_is_refused(tmp_path):
         mc.read_config(config(tmp_path, text=typed))
 
 
-def test_cuda_is_refused_with_a_reason(tmp_path):
-    with pytest.raises(ValueError, match="montecarlo: device = 'cuda' is not built yet"):
+def test_cuda_without_a_gpu_says_what_is_missing_before_any_work(tmp_path, monkeypatch):
+    from fastbearing.engine import device
+
+    monkeypatch.delenv("NUMBA_ENABLE_CUDASIM", raising=False)
+    try:
+        device.require_cuda()
+        pytest.skip("a usable GPU: montecarlo runs there (tests/cuda_simulated.py checks it against the CPU)")
+    except device.CudaUnavailable:
+        pass
+    with pytest.raises(device.CudaUnavailable):
         mc.montecarlo(config(tmp_path), tmp_path / "x.h5", device="cuda", progress=False)
+    assert not (tmp_path / "x.h5").exists() and not (tmp_path / "x.h5.part").exists()
+    with pytest.raises(ValueError, match="a Dask run on GPU workers is not built"):
+        mc.montecarlo(config(tmp_path), tmp_path / "x.h5", device="cuda", progress=False, client=object())
 
 
 def test_a_dask_run_gives_the_local_file_and_the_job_pickles(tmp_path):

@@ -10,16 +10,14 @@ rank-correlation sensitivity ranking, which the run writes into the file's attri
 
 Reproducible: sample i is drawn from the generator of its draw block (seed, i // DRAW_BLOCK), and the job's
 blocks are the draw blocks whatever ``chunk`` a user would choose, so the same seed gives the same file bit
-for bit, resumed or not, on any thread count or Dask cluster. Within a block the samples are solved in order
-of their operating clearance (each continuation run then steps between near neighbours: a warm start needs
-a Newton step or two) and stored in sample order. Units: N, mm, rad; rpm; deg C.
+for bit, resumed or not, on any thread count or Dask cluster. Each continuation run steps from one sample to
+the next (the same load, another bearing). Units: N, mm, rad; rpm; deg C.
 """
 
 from __future__ import annotations
 
 import hashlib
 import json
-import threading
 from dataclasses import dataclass, replace
 from functools import partial
 from pathlib import Path
@@ -187,8 +185,8 @@ class Sampler:
 
 def compute_block(sampler: Sampler, line_length: int, settings, life, spinning: bool, inputs: np.ndarray,
                   res: dict, first: int, stop: np.ndarray, device: str = "cpu") -> None:
-    """One block of samples (first .. first + n - 1) into ``res``: drawn, budgeted, solved in order of their
-    operating clearance (continuation runs between near neighbours), stored in sample order. ``device`` "cuda":
+    """One block of samples (first .. first + n - 1) into ``res``: drawn, budgeted and solved, each continuation
+    run from one sample to the next (the load is the same: only the bearing changes). ``device`` "cuda":
     solved on the GPU (engine.gpu.map_sweep_cuda: its own shorter continuation segments, so results agree with
     the CPU's to the solver's tolerance, not bit for bit)."""
     n = inputs.shape[0]
@@ -198,17 +196,15 @@ def compute_block(sampler: Sampler, line_length: int, settings, life, spinning: 
             res[name][...] = values
     res["operating_diametral_clearance"][...] = 2.0 * rL
     res["operating_axial_preload"][...] = d0
-    order = np.argsort(rL[:, 0], kind="stable")
-    table, valid = sampler.base.operating_table(rL[order], d0[order])
-    # solved in clearance order into this thread's own arrays, then gathered into ``res`` in sample order
-    solved = {k: a for k, a in res.items() if k not in ZONE_NAMES and not k.startswith("operating_")}
-    in_order = _sorted_arrays(solved, n)
+    table, valid = sampler.base.operating_table(rL, d0)
     sizes = samples.get("ball_diameter_deviation")
-    elements, cases = block_records(sampler.base, line_length, life, spinning, inputs, in_order, first,
+    elements, cases = block_records(sampler.base, line_length, life, spinning, inputs, res, first,
                                     mirror=sizes is None)  # balls of their own sizes: no mirror images
     outside = ~valid
+    # in sample order: each continuation run starts from its previous sample's q (solving in clearance order
+    # halves the Newton iterations but measured slower at speed, and no faster at rest: bench/README.md)
     cases = cases._replace(inputs=np.where(outside[:, None], np.nan, cases.inputs), operating=table,
-                           ball_sizes=None if sizes is None else np.ascontiguousarray(sizes[order]))
+                           ball_sizes=None if sizes is None else np.ascontiguousarray(sizes))
     if device == "cuda":
         from ..engine.gpu import map_sweep_cuda  # numba.cuda is imported only here
 
@@ -217,27 +213,10 @@ def compute_block(sampler: Sampler, line_length: int, settings, life, spinning: 
         map_sweep(elements, cases, True, settings, stop)
     if stop[0] != 0:
         return
-    back = np.empty(n, np.int64)
-    back[order] = np.arange(n)
-    for name, a in solved.items():
-        np.take(in_order[name], back, axis=0, out=a)
     if outside.any():
-        _flag_outside(res, outside[back])
+        _flag_outside(res, outside)
     if life is not None:
         _iso_lives(res, life[2], inputs[:, 5] if inputs.shape[1] == 6 else None)
-
-
-_SORTED = threading.local()
-
-
-def _sorted_arrays(like: dict, n: int) -> dict:
-    """This thread's arrays shaped as ``like``'s (the block's results), allocated once per thread and size."""
-    have = getattr(_SORTED, "arrays", None)
-    if have is None or any(k not in have or have[k].shape[1:] != a.shape[1:] or have[k].dtype != a.dtype
-                           or have[k].shape[0] < n for k, a in like.items()):
-        _SORTED.arrays = have = {k: np.empty_like(a, shape=(max(n, DRAW_BLOCK),) + a.shape[1:])
-                                 for k, a in like.items()}
-    return {k: have[k][:n] for k in like}
 
 
 def zone_variables(zones) -> list:
