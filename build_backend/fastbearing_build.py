@@ -78,15 +78,14 @@ class BuildPy(_build_py):
 
 
 class BdistWheel(_bdist_wheel):
-    """setuptools' bdist_wheel; a wheel with prebuilt caches is tagged for this CPython and platform."""
-
-    def finalize_options(self):
-        super().finalize_options()
-        if prebuild_levels():
-            self.root_is_pure = False
+    """setuptools' bdist_wheel; a wheel with prebuilt caches is tagged for this CPython and platform (its
+    files stay in the wheel's root, installed as pure Python is: no extension module)."""
 
     def get_tag(self):
         python, abi, platform = super().get_tag()
-        if prebuild_levels():  # machine code for this interpreter and platform, but no extension module
-            return f"cp{sys.version_info[0]}{sys.version_info[1]}", "none", platform
+        if prebuild_levels():  # machine code for this interpreter and platform
+            import sysconfig
+
+            return (f"cp{sys.version_info[0]}{sys.version_info[1]}", "none",
+                    sysconfig.get_platform().replace("-", "_").replace(".", "_"))
         return python, abi, platform

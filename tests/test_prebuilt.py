@@ -172,7 +172,9 @@ def test_a_machine_or_numba_that_does_not_match_copies_nothing(prebuilt_v3, tmp_
 def test_the_release_build_puts_the_prebuilt_caches_in_the_wheel(tmp_path):
     pytest.importorskip("build")
     repo = Path(__file__).resolve().parents[1]
-    env = {**os.environ, "FASTBEARING_PREBUILD": "x86-64-v3", "FASTBEARING_PREBUILD_KINDS": "quasi-static"}
+    # without the suite's PYTHONPATH (conftest.py): pip would take its packages as the isolated build's own
+    env = {**{k: v for k, v in os.environ.items() if k != "PYTHONPATH"}, "FASTBEARING_PREBUILD": "x86-64-v3",
+           "FASTBEARING_PREBUILD_KINDS": "quasi-static"}
     run = subprocess.run([sys.executable, "-m", "build", "--wheel", "--outdir", str(tmp_path), str(repo)], env=env,
                          capture_output=True, text=True, timeout=900)
     assert run.returncode == 0, run.stderr[-3000:]

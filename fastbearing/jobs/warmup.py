@@ -233,7 +233,11 @@ def warmup_portable(level: str, into, kinds=None) -> int:
 
 def _check_host_runs(level: str) -> None:
     """ValueError when this machine lacks a CPU feature of ``level`` (the warm-up runs what it compiles)."""
-    missing = sorted(set(LEVELS[level]) - host_features())
+    features = host_features()
+    if not features:
+        raise ValueError(f"--portable {level}: llvmlite cannot tell this machine's CPU features (is llvmlite, numba's "
+                         "compiler, importable here?), so the level cannot be checked")
+    missing = sorted(set(LEVELS[level]) - features)
     if missing:
         raise ValueError(f"--portable {level}: this machine lacks {', '.join(missing)}, so it cannot run the code it "
                          "would compile (the warm-up runs it); build that level's cache on a machine that has them")
