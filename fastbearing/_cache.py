@@ -71,15 +71,11 @@ def cache_folder() -> Path:
     """Where numba keeps the cache of this package's kernels: numba's own choice (the first of its
     locators that applies, as numba itself picks), or the in-tree ``__pycache__`` if numba cannot say."""
     try:
-        from numba.core import caching
+        from ._numba_cache import locate
 
-        def probe():
-            pass
-
-        for locator in caching.CacheImpl._locator_classes:
-            found = locator.from_function(probe, str(_PACKAGE / "engine" / "kernel.py"))
-            if found is not None:
-                return Path(found.get_cache_path())
+        found, _ = locate(_PACKAGE / "engine" / "kernel.py")
+        if found is not None:
+            return found
     except Exception:  # a numba without these internals: the default location
         pass
     return _PACKAGE / "engine" / "__pycache__"
@@ -148,8 +144,9 @@ def self_contained_linking() -> bool:
     return True
 
 
-def ensure_fresh() -> None:
-    """Delete stale numba cache files (.nbi/.nbc) when the sources changed."""
+def ensure_fresh() -> str:
+    """Delete stale numba cache files (.nbi/.nbc) when the sources changed; returns the sources' hash
+    (:func:`source_hash`)."""
     digest = source_hash()
     for folder in (cache_folder(),):
         stamp = folder / _STAMP_NAME
@@ -165,6 +162,7 @@ def ensure_fresh() -> None:
         except OSError:
             # read-only location: numba does not write there either
             pass
+    return digest
 
 
 #: What a run that starts compiling says, once per process (the estimate: bench/README.md, compile times).

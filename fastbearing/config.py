@@ -30,10 +30,13 @@ def __getattr__(name):
     # this file without paying for numba.
     if name == "CACHE":
         from ._cache import ensure_fresh, self_contained_linking
+        from ._prebuilt import use_prebuilt
 
         self_contained_linking()  # before any kernel compiles or loads: the same bits either way
-        ensure_fresh()
+        digest = ensure_fresh()
+        # set before the prebuilt copy: unpickling its signatures imports kernel modules, which look it up
         globals()["CACHE"] = True
+        use_prebuilt(digest)  # a release wheel's kernels for this CPU level, where they apply
         return True
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 

@@ -20,6 +20,13 @@ from hypothesis import settings  # noqa: E402
 os.environ["PYTHONPATH"] = os.pathsep.join(
     p for p in (str(Path(fb.__file__).resolve().parents[1]), os.environ.get("PYTHONPATH")) if p)
 
+
+def pytest_report_header(config):
+    """Which fastbearing the run tests: the installed package (the README's `python -P -m pytest`, which keeps
+    the clone's folder off sys.path) or a source tree."""
+    return f"fastbearing {fb.__version__} from {Path(fb.__file__).resolve().parent}"
+
+
 # Property tests draw the same examples on every run and machine: a CI result can be reproduced, and a
 # failure is a property of the code, not of the day's random seed.
 settings.register_profile("fastbearing", derandomize=True, database=None)

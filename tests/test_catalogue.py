@@ -15,7 +15,9 @@ from fastbearing.model.catalogue import catalogue_file, catalogue_folder, catalo
 from fastbearing.report.catalogue import shipped_bearings, shipped_bearings_text
 
 ROOT = Path(__file__).resolve().parents[1]
-FOLDER = ROOT / "fastbearing" / "catalogue"
+#: The catalogue of the fastbearing under test: the installed package's (the README's test command) or a
+#: source tree's.
+FOLDER = Path(fb.__file__).parent / "catalogue"
 FILES = sorted(FOLDER.glob("*.toml"))
 
 

@@ -70,7 +70,7 @@ def find_cycle(graph):
 #: The layers, lowest first: a module may import from its own layer and the ones below, never above.
 #: Leaves every layer reads (units, status codes, settings, validation, files) sit below the engine;
 #: ``api`` (solve, stiffness) is what analysis builds on; the command line is on top.
-LAYERS = (("config", "status", "dofs", "validate", "files", "_cache", "boundary"), ("engine",), ("model",), ("api",),
+LAYERS = (("config", "status", "dofs", "validate", "files", "_cache", "_numba_cache", "_prebuilt", "boundary"), ("engine",), ("model",), ("api",),
           ("analysis",), ("jobs",), ("report",), ("cli", "__init__"))
 
 

@@ -47,7 +47,7 @@ GUIDE = ("index.md", "solve.md", "boundary-conditions.md", "load-maps.md", "pass
          "four-point.md", "rollers.md", "assumptions.md", "speed.md", "layout.md")
 DOCUMENTS = (README, *(ROOT / "docs" / name for name in GUIDE))
 SKIP = re.compile(r"<!--\s*readme:\s*skip\s*\((?P<why>[^)]+)\)\s*-->")
-ENVIRONMENT_STEPS = ("python3 -m venv", ". .venv/bin/activate", "pip install", "python -m pytest")
+ENVIRONMENT_STEPS = ("python3 -m venv", ". .venv/bin/activate", "pip install", "python -m pytest", "python -P -m pytest")
 
 
 @dataclass

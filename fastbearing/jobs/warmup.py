@@ -20,6 +20,10 @@ import tempfile
 import time
 from pathlib import Path
 
+# The CPU levels a portable cache is built for and the features each needs (one table with the release
+# wheel's level choice): the warm-up runs the code it compiles, so a host without them is refused first.
+from .._prebuilt import LEVELS, host_features
+
 #: Load (Fx, Fy, Fz, Mx, My; N, N*mm) of the paper's Table 4: the quasi-static families' operating point.
 _PAPER_LOAD = [1000.0, 0.0, 3000.0, 0.0, -74000.0]
 #: A spindle load (N) and speed (rpm) for the 7014C-DB pair at speed.
@@ -233,25 +237,6 @@ def warmup(kinds=None, *, say=None) -> dict:
     return {**seconds, "compiled": watch.compiled}
 
 
-#: The x86-64 micro-architecture levels (psABI) a portable cache is built for, with the CPU features each
-#: needs (llvmlite's names): the warm-up runs the code it compiles, so a host without them is refused
-#: before anything runs (an illegal instruction otherwise).
-_V2 = ("cx16", "popcnt", "sse3", "sse4.1", "sse4.2", "ssse3")
-_V3 = _V2 + ("avx", "avx2", "bmi", "bmi2", "f16c", "fma", "lzcnt", "movbe", "xsave")
-LEVELS = {"x86-64-v2": _V2, "x86-64-v3": _V3,
-          "x86-64-v4": _V3 + ("avx512f", "avx512bw", "avx512cd", "avx512dq", "avx512vl")}
-
-
-def host_features() -> set[str]:
-    """The CPU features of this machine, as LLVM names them (empty where llvmlite cannot tell)."""
-    try:
-        from llvmlite import binding as ll
-
-        return {name for name, on in ll.get_host_cpu_features().items() if on}
-    except Exception:  # not x86, or an llvmlite without it
-        return set()
-
-
 def portable_environment(level: str, into) -> dict:
     """The environment of a process that compiles for (or runs from) a cache of the CPU level ``level``
     (``x86-64-v3``: AVX2, FMA; ``x86-64-v4``: AVX-512; see :data:`LEVELS`) in the folder ``into``.
@@ -269,12 +254,50 @@ def warmup_portable(level: str, into, kinds=None) -> int:
     runs)."""
     check_kinds(kinds)
     env = portable_environment(level, into)
-    missing = sorted(set(LEVELS[level]) - host_features())
-    if missing:
-        raise ValueError(f"--portable {level}: this machine lacks {', '.join(missing)}, so it cannot run the code it "
-                         "would compile (the warm-up runs it); build that level's cache on a machine that has them")
+    _check_host_runs(level)
     Path(into).mkdir(parents=True, exist_ok=True)
     code = ("import sys; from fastbearing.jobs.warmup import warmup; "
             "warmup(sys.argv[1].split(',') if sys.argv[1] else None)")
     return subprocess.run([sys.executable, "-c", code, ",".join(kinds or ())],
                           env=env).returncode
+
+
+def _check_host_runs(level: str) -> None:
+    """ValueError when this machine lacks a CPU feature of ``level`` (the warm-up runs what it compiles)."""
+    features = host_features()
+    if not features:
+        raise ValueError(f"--portable {level}: llvmlite cannot tell this machine's CPU features (is llvmlite, numba's "
+                         "compiler, importable here?), so the level cannot be checked")
+    missing = sorted(set(LEVELS[level]) - features)
+    if missing:
+        raise ValueError(f"--portable {level}: this machine lacks {', '.join(missing)}, so it cannot run the code it "
+                         "would compile (the warm-up runs it); build that level's cache on a machine that has them")
+
+
+def prebuild(levels, into, kinds=None) -> int:
+    """The release build's step (``FASTBEARING_PREBUILD``, build_backend/): for each CPU level of ``levels``,
+    compile the kernel families ``kinds`` (None: all) in a fresh process for that level, into a temporary
+    cache folder, and copy the package's entries to ``into/LEVEL/``; then write ``into/manifest.json``
+    (what they were built by, :mod:`fastbearing._prebuilt`). Returns 0, or the exit status of the process
+    of the level that failed (no manifest then). ValueError for an unknown level or one this machine
+    cannot run, before anything runs."""
+    levels = list(dict.fromkeys(levels))
+    check_kinds(kinds)
+    for level in levels:
+        portable_environment(level, into)
+        _check_host_runs(level)
+    Path(into).mkdir(parents=True, exist_ok=True)
+    code = ("import sys; from fastbearing.jobs.warmup import warmup; from fastbearing._prebuilt import export_level; "
+            "warmup(sys.argv[1].split(',') if sys.argv[1] else None); "
+            "n = export_level(sys.argv[2], sys.argv[3]); "
+            "print(f'fastbearing prebuild: {sys.argv[2]}: {n} cached functions', file=sys.stderr)")
+    for level in levels:
+        with tempfile.TemporaryDirectory(prefix=f"fastbearing-prebuild-{level}-") as cache:
+            run = subprocess.run([sys.executable, "-c", code, ",".join(kinds or ()), level, str(Path(into).resolve())],
+                                 env=portable_environment(level, cache))
+        if run.returncode:
+            return run.returncode
+    from .._prebuilt import write_manifest
+
+    write_manifest(into, levels)
+    return 0
