@@ -36,6 +36,7 @@ _PUBLIC = {
     **dict.fromkeys(("bearing_report", "bearing_report_text", "fault_frequency_report"), "report.bearing_report"),
     **dict.fromkeys(("fault_frequencies", "fault_orders"), "analysis.faults"),
     "passage": "jobs.passage",
+    "montecarlo": "jobs.montecarlo",
     "operating_bearing": "model.mounted",
     "catalogue_names": "model.catalogue",
     **dict.fromkeys(("shipped_bearings", "shipped_bearings_text"), "report.catalogue"),

@@ -61,6 +61,10 @@ def test_each_sample_is_its_drawn_operating_clearance_solved(tmp_path):
         assert np.allclose(data["q"][i], r.q, rtol=1e-8, atol=1e-12)
 
 
+def test_the_api_names_it_beside_loadmap():
+    assert fb.montecarlo is mc.montecarlo and "montecarlo" in dir(fb)
+
+
 def test_the_same_seed_gives_the_same_file_on_any_thread_count(tmp_path):
     path = config(tmp_path)
     a = _datasets(mc.montecarlo(path, tmp_path / "a.h5", progress=False, threads=1)[0])

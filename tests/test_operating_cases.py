@@ -149,6 +149,8 @@ def test_a_map_over_speed_and_temperature_is_each_operating_bearing_line_by_line
     with h5py.File(out, "r") as fh:
         assert list(fh["K"].dims[0].keys()) == ["inner_ring_temperature"]
         assert fh["inner_ring_temperature"].attrs["units"] == "degC"
+        assert fh.attrs["operating_line"].startswith("each case at its own operating clearance: ")
+        assert fh.attrs["operating_line"].endswith("over 4 speeds and temperatures")
         data = {k: fh[k][()] for k in ("K", "q", "status", "operating_diametral_clearance", "operating_axial_preload")}
     assert data["K"].shape == (2, 2, 4, 5, 5) and fb.status.converged_mask(data["status"]).all()
     from fastbearing.jobs.loadmap import read_config

@@ -9,6 +9,7 @@ Units: N, mm, rad.
 from __future__ import annotations
 
 import hashlib
+import sys
 from dataclasses import dataclass, field, replace
 from functools import partial
 from pathlib import Path
@@ -238,10 +239,10 @@ def _vary(cases: CaseBlock, varying, inputs: np.ndarray, res: dict, first: int):
     return cases, values.outside
 
 
-def _mount_notes(mounted: Bearing, cases: CaseSet, most: int = 4096) -> list[str]:
-    """The distinct notes of a map's mounts (fits lost, hoop stress, operating values outside the model), over
-    every (speed, temperatures) of its axes (at most ``most`` of them: a note per distinct operating point
-    would need them all)."""
+def mount_summary(mounted: Bearing, cases: CaseSet, most: int = 4096) -> tuple[str, list[str]]:
+    """(one line: the operating diametral clearance's range over the map, in um; the distinct notes of its
+    mounts: fits lost, hoop stress, operating values outside the model), over every (speed, temperatures) of
+    its axes (at most ``most`` of them)."""
     import itertools
 
     speeds = cases.speed.values if cases.speed is not None else (cases.table[:, 5] if cases.table is not None
@@ -250,7 +251,16 @@ def _mount_notes(mounted: Bearing, cases: CaseSet, most: int = 4096) -> list[str
     points = list(itertools.islice(itertools.product(*axes), most))
     columns = np.array(points, dtype=float)
     temperatures = {a.name: columns[:, k + 1] for k, a in enumerate(cases.conditions)}
-    return case_operating(mounted, len(points), columns[:, 0], temperatures=temperatures, per_case=True).notes
+    values = case_operating(mounted, len(points), columns[:, 0], temperatures=temperatures, per_case=True)
+    Pd = 2000.0 * values.radial_clearance[:, 0]
+    inside = Pd[np.isfinite(Pd)]
+    line = ("each case at its own operating clearance: "
+            + (f"{inside.min():.4g} to {inside.max():.4g} um" if inside.size else "none inside the model")
+            + f" (unmounted {1000.0 * mounted.geometry.diametral_clearance:.4g} um) over {len(points)} speeds and "
+            "temperatures")
+    if values.outside is not None:
+        line += f"; {int(values.outside.sum())} of them outside the model (status outside_model)"
+    return line, values.notes
 
 
 def _flag_outside(res: dict, outside: np.ndarray) -> None:
@@ -348,7 +358,8 @@ def job(cfg: LoadMapConfig, device: str = "cpu") -> jobs.Job:
         attrs["operating_note"] = ("each case runs at its own operating clearance and preload from [bearing.mounting] "
                                    "at its speed and temperatures: variables operating_diametral_clearance and "
                                    "operating_axial_preload (mm)")
-        notes = _mount_notes(cfg.mounted, cfg.cases)
+        line, notes = mount_summary(cfg.mounted, cfg.cases)
+        attrs["operating_line"] = line
         if notes:
             attrs["operating_notes"] = "; ".join(notes)
     if cfg.life is not None:
@@ -439,6 +450,9 @@ def loadmap(config, output=None, *, threads=None, resume=False, overwrite=False,
                          "(run --device cuda without --dask, or the CPU workers with --dask)")
     if device == "cuda":
         require_cuda()
-    out = jobs.run(job(cfg, device), jobs.output_path(output, cfg.source), threads=threads, resume=resume,
+    the_job = job(cfg, device)
+    if "operating_line" in the_job.attrs:  # a run says which clearance it solved, in one line
+        print(f"fastbearing: {the_job.attrs['operating_line']}", file=sys.stderr)
+    out = jobs.run(the_job, jobs.output_path(output, cfg.source), threads=threads, resume=resume,
                    overwrite=overwrite, progress=progress, client=client, max_in_flight=max_in_flight)
     return open_dataset(out) if as_dataset else out
