@@ -212,8 +212,7 @@ def map_plan(config):
 
     cfg = loadmap.read_config(config)
     job = loadmap.job(cfg, "cuda")
-    life = job.compute.args[4]
-    spinning = job.compute.args[5]
+    life, spinning = job.compute.args[0].life, job.compute.args[0].spinning  # loadmap.MapWork
     launches = []
     n_columns = cfg.cases.inputs(0, 1).shape[1]  # 6 with a speed per case
     blocks_of_map = plan_blocks(cfg.cases.shape, cfg.cases.line_length, job.chunk)

@@ -43,14 +43,15 @@ def block(n_fx):
 
 def run(job, inputs, n, longest, rounds):
     """(best seconds, results dict) of the CPU sweep with the runs cut at ``longest`` cases."""
-    args = job.compute.args
+    work = job.compute.args[0]  # loadmap.MapWork
     best, res = np.inf, None
     for _ in range(rounds):
         res = storage.allocate(job.variables, job.sizes, n)
-        elements, cases = loadmap.block_records(args[0], args[2], args[4], args[5], inputs, res, 0)
+        elements, cases = loadmap.block_records(work.bearing, work.line_length, work.life, work.spinning, inputs,
+                                                res, 0)
         cases = cases._replace(segments=gpu.device_segments(cases.segments, longest))
         started = time.perf_counter()
-        map_sweep(elements, cases, args[1], args[3], np.zeros(1, np.int64))
+        map_sweep(elements, cases, work.given_load, work.settings, np.zeros(1, np.int64))
         best = min(best, time.perf_counter() - started)
     return best, res
 

@@ -106,6 +106,27 @@ class CliResult:
         self.returncode, self.stdout, self.stderr = returncode, stdout, stderr
 
 
+#: The start of a child process's script that counts numba's compilations in ``count[0]`` (tests/test_warmup.py,
+#: tests/test_prebuilt.py: a cached or prebuilt kernel must compile nothing).
+COUNT_COMPILATIONS = """
+import sys
+from numba.core import event
+
+count = [0]
+
+
+class Count(event.Listener):
+    def on_start(self, ev):
+        count[0] += 1
+
+    def on_end(self, ev):
+        pass
+
+
+event.register("numba:compile", Count())
+"""
+
+
 def cli_run(*args, cwd=None) -> CliResult:
     """``fastbearing ARGS`` in this process through ``cli.main`` (a subprocess costs ~1 s of start-up;
     a few smoke tests still run the real thing). An exception escaping main is a traceback: it fails."""

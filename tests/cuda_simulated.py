@@ -249,7 +249,8 @@ def map_segments():
     job = loadmap.job(loadmap.read_config(SEGMENTED), "cuda")
     n = job.cases.n_cases
     inputs = job.cases.inputs(0, n)
-    bearing, given_load, line_length, settings, life, spinning = job.compute.args
+    work = job.compute.args[0]  # loadmap.MapWork
+    bearing, given_load, line_length, settings, life, spinning = work[:6]
     stop = np.zeros(1, np.int64)
 
     def block(segments=None):

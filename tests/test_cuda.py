@@ -291,8 +291,9 @@ def _map_block(cfg, device="cuda"):
     res = {v.name: np.broadcast_to(np.zeros((), v.dtype), (block.size, *(job.sizes[d] for d in v.trailing)))
            for v in job.buffer_variables}
     inputs = np.broadcast_to(np.zeros(()), (block.size, 5))
-    args = job.compute.args
-    return job, loadmap.block_records(args[0], args[2], args[4], args[5], inputs, res, block.start)
+    work = job.compute.args[0]  # loadmap.MapWork
+    return job, loadmap.block_records(work.bearing, work.line_length, work.life, work.spinning, inputs, res,
+                                      block.start)
 
 
 def test_the_1M_example_is_one_block_of_131_300_threads_on_the_gpu():

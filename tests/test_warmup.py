@@ -8,22 +8,12 @@ import textwrap
 
 import pytest
 
+from conftest import COUNT_COMPILATIONS
+
 #: A process that runs one command through the command line's main() and reports numba's compilations.
-COUNT_COMPILES = textwrap.dedent("""
-    import sys
-    from numba.core import event
+COUNT_COMPILES = COUNT_COMPILATIONS + textwrap.dedent("""
     from fastbearing import cli
 
-    count = [0]
-
-    class Count(event.Listener):
-        def on_start(self, ev):
-            count[0] += 1
-
-        def on_end(self, ev):
-            pass
-
-    event.register("numba:compile", Count())
     code = cli.main(sys.argv[1:])
     print("compilations:", count[0], file=sys.stderr)
     sys.exit(code)

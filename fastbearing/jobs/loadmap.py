@@ -9,6 +9,7 @@ Units: N, mm, rad.
 from __future__ import annotations
 
 import hashlib
+from collections import namedtuple
 import sys
 from dataclasses import dataclass, field, replace
 from functools import partial
@@ -33,7 +34,6 @@ from ..analysis.life import LifeSettings, iso_life, life_table, rating_sources, 
 from ..engine.contract import CaseBlock, Elements, Results
 from ..engine.sweep import map_sweep
 from .. import status as st
-from ..engine.device import DEVICES, require_cuda
 
 DEFAULT_CHUNK = 65536
 #: Largest block: one block's results are in memory at once (about 400 bytes a case).
@@ -190,11 +190,17 @@ def operating_variables() -> list:
 
 
 
-def compute_block(bearing: Bearing, given_load: bool, line_length: int, settings, life, spinning: bool,
-                  inputs: np.ndarray, res: dict, first: int, stop: np.ndarray, device: str = "cpu",
-                  stored=None, varying=None) -> None:
+#: What every block of a map is computed with (:func:`compute_block`; picklable for Dask workers): the bearing,
+#: whether loads are given, the cases per grid line, the solver settings, the life tables (or None), whether
+#: some case spins, the device, the stored variables (None: all) and the cases' own bearing (or None).
+MapWork = namedtuple("MapWork", "bearing given_load line_length settings life spinning device stored varying",
+                     defaults=("cpu", None, None))
+
+
+def compute_block(work: MapWork, inputs: np.ndarray, res: dict, first: int, stop: np.ndarray) -> None:
     """Fill the result arrays ``res`` (one block's, see :func:`variables`) for ``inputs`` (n, 5), the
-    flat cases from ``first`` on; ``stop[0] != 0`` (Ctrl-C) ends it early, leaving the block incomplete.
+    flat cases from ``first`` on, as ``work`` (:data:`MapWork`) says; ``stop[0] != 0`` (Ctrl-C) ends it early,
+    leaving the block incomplete.
 
     The work unit of a map: local runs and Dask workers both call it, on the
     same blocks, which is why their outputs are identical bit for bit.
@@ -207,6 +213,7 @@ def compute_block(bearing: Bearing, given_load: bool, line_length: int, settings
     bearing: each case then runs at its own operating clearance and preload (api.case_operating), stored in
     ``res``; a case outside the model gets the status outside_model, not a solve.
     """
+    bearing, given_load, line_length, settings, life, spinning, device, stored, varying = work
     elements, cases = block_records(bearing, line_length, life, spinning, inputs, res, first)
     outside = None
     if varying is not None:
@@ -380,8 +387,8 @@ def job(cfg: LoadMapConfig, device: str = "cpu") -> jobs.Job:
         kind="load map", bearing=cfg.bearing, cases=cfg.cases,
         variables=tuple(variables), attrs=attrs,
         sizes={"dof": 5, "dof_col": 5, "row": cfg.bearing.n_rows},
-        compute=partial(compute_block, cfg.bearing, given_load, cfg.cases.line_length, settings, life,
-                        cfg.cases.max_speed > 0, device=device, stored=stored, varying=varying),
+        compute=partial(compute_block, MapWork(cfg.bearing, given_load, cfg.cases.line_length, settings, life,
+                                               cfg.cases.max_speed > 0, device, stored, varying)),
         settings=settings, method=cfg.method, chunk=chunk, text=cfg.text, source=cfg.source,
         fingerprint=fingerprint, compression=cfg.compression, line_length=cfg.cases.line_length,
         kernel="engine.gpu.map_sweep_cuda" if device == "cuda" else "engine.sweep.map_sweep",
@@ -444,12 +451,7 @@ def loadmap(config, output=None, *, threads=None, resume=False, overwrite=False,
     cfg = config if isinstance(config, LoadMapConfig) else read_config(config)
     if as_dataset:
         jobs.require_xarray()
-    device = validate.choice(device, "device", DEVICES)
-    if device == "cuda" and client is not None:
-        raise ValueError("device = 'cuda' runs on this machine's GPU; a Dask run on GPU workers is not built yet "
-                         "(run --device cuda without --dask, or the CPU workers with --dask)")
-    if device == "cuda":
-        require_cuda()
+    device = jobs.check_device(device, client)
     the_job = job(cfg, device)
     if "operating_line" in the_job.attrs:  # a run says which clearance it solved, in one line
         print(f"fastbearing: {the_job.attrs['operating_line']}", file=sys.stderr)

@@ -30,7 +30,6 @@ from .. import status as st
 from .. import validate
 from ..api import solver_settings
 from ..dofs import LOAD_NAMES, LOAD_UNITS
-from ..engine.device import DEVICES
 from ..engine.sweep import map_sweep
 from ..model.bearing import Bearing, check_speed, check_speed_model
 from ..model.bearing_file import read_job_config
@@ -149,7 +148,7 @@ def _ball_zone(bearing, variation, speed: float) -> Zone:
     if speed > 0:
         raise validate.FieldError(where, "needs speed = 0: at speed a ball's diameter also sets its mass and the "
                                   "high-speed model's contact radii, which are not varied per ball", variation)
-    if bearing.roller_rows or bearing.four_point_columns is not None:
+    if any(row.element != "ball" for row in bearing.rows):  # each element kind says what it is
         raise validate.FieldError(where, "is for rows of plain balls (element = \"ball\"): four-point balls and "
                                   "rollers are not varied per element", variation)
     return zone
@@ -278,14 +277,7 @@ def montecarlo(config, output=None, *, threads=None, resume=False, overwrite=Fal
     ``overwrite``; ``resume`` continues a killed run. ``client``: a Dask client (the same file bit for bit).
     The summary (:func:`summarize`) is also written into the file's attributes (``summary_json``)."""
     cfg = config if isinstance(config, MonteCarloConfig) else read_config(config)
-    device = validate.choice(device, "device", DEVICES)
-    if device == "cuda" and client is not None:
-        raise ValueError("montecarlo: device = 'cuda' runs on this machine's GPU; a Dask run on GPU workers is not "
-                         "built (run --device cuda without --dask, or the CPU workers with --dask)")
-    if device == "cuda":
-        from ..engine.device import require_cuda
-
-        require_cuda()
+    device = jobs.check_device(device, client)
     out = jobs.run(job(cfg, device), jobs.output_path(output, cfg.source), threads=threads, resume=resume,
                    overwrite=overwrite, progress=progress, client=client, max_in_flight=max_in_flight)
     summary = summarize(out)

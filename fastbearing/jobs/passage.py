@@ -463,14 +463,7 @@ def passage(config, output=None, *, threads=None, resume=False, overwrite=False,
     cfg = config if isinstance(config, PassageConfig) else read_config(config)
     if as_dataset:
         jobs.require_xarray()
-    device = validate.choice(device, "device", ("cpu", "cuda"))
-    if device == "cuda":
-        if client is not None:
-            raise ValueError("device = 'cuda' runs on this machine's GPU; a Dask run on GPU workers is not built "
-                             "yet (run --device cuda without --dask, or the CPU workers with --dask)")
-        from ..engine.device import require_cuda
-
-        require_cuda()
+    device = jobs.check_device(device, client)
     out = jobs.output_path(output, cfg.source)
     if csv_files and not isinstance(out, Path):
         raise ValueError(f"csv_files (--csv) writes beside a local output; {out} is a URL")

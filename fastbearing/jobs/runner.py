@@ -46,6 +46,20 @@ from .grid import CaseSet, plan_blocks
 from .locations import is_url
 from ..engine.solver import SolverSettings
 
+def check_device(device, client) -> str:
+    """A job's ``device`` ("cpu" or "cuda"), checked before anything is created: a ValueError naming the field,
+    a Dask run on the GPU refused, and CudaUnavailable (saying what is missing) where "cuda" cannot run."""
+    from ..engine.device import DEVICES, require_cuda
+
+    device = validate.choice(device, "device", DEVICES)
+    if device == "cuda" and client is not None:
+        raise ValueError("device = 'cuda' runs on this machine's GPU; a Dask run on GPU workers is not built yet "
+                         "(run --device cuda without --dask, or the CPU workers with --dask)")
+    if device == "cuda":
+        require_cuda()
+    return device
+
+
 #: Most blocks a Dask run may have out on the cluster at once.
 MAX_IN_FLIGHT = 10_000
 #: What a job's real-valued results may be stored as (``[loadmap] dtype``): float32 halves a K-only map.
