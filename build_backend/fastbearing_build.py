@@ -7,8 +7,9 @@ time, or none). The build runs ``fastbearing.jobs.warmup.prebuild`` on the packa
 one fresh process per level (minutes each), so the build needs the package's own dependencies: they are
 added to the build requirements, and the machine that builds must have every CPU feature of each level
 (the warm-up runs the code it compiles). ``FASTBEARING_PREBUILD_KINDS=quasi-static,...`` restricts the
-kernel families (tests). Such a wheel is tagged for the building CPython and platform
-(``cp311-none-linux_x86_64``), since its caches are only of use there.
+kernel families (tests). Such a wheel is tagged for the building CPython and for the platforms that the
+building numba's and llvmlite's wheels are tagged for (``cp311-none-manylinux_2_27_x86_64.manylinux_2_28_x86_64``
+with today's numba 0.68 wheels; :func:`prebuilt_platform`), since its caches are only of use there.
 
 Without ``FASTBEARING_PREBUILD`` everything is setuptools' as before: a pure wheel, no caches.
 """
@@ -20,6 +21,8 @@ import sys
 from pathlib import Path
 
 from setuptools import build_meta as _setuptools
+
+from wheel_tags import prebuilt_platform
 from setuptools.build_meta import (build_editable, build_sdist, build_wheel, get_requires_for_build_editable,
                                    get_requires_for_build_sdist, prepare_metadata_for_build_editable,
                                    prepare_metadata_for_build_wheel)
@@ -84,8 +87,5 @@ class BdistWheel(_bdist_wheel):
     def get_tag(self):
         python, abi, platform = super().get_tag()
         if prebuild_levels():  # machine code for this interpreter and platform
-            import sysconfig
-
-            return (f"cp{sys.version_info[0]}{sys.version_info[1]}", "none",
-                    sysconfig.get_platform().replace("-", "_").replace(".", "_"))
+            return f"cp{sys.version_info[0]}{sys.version_info[1]}", "none", prebuilt_platform()
         return python, abi, platform

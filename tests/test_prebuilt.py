@@ -170,10 +170,42 @@ def test_the_release_build_puts_the_prebuilt_caches_in_the_wheel(tmp_path):
     run = subprocess.run([sys.executable, "-m", "build", "--wheel", "--outdir", str(tmp_path), str(repo)], env=env,
                          capture_output=True, text=True, timeout=900)
     assert run.returncode == 0, run.stderr[-3000:]
-    tag = f"cp{sys.version_info[0]}{sys.version_info[1]}-none-"
-    (wheel,) = tmp_path.glob(f"fastbearing-*-{tag}*.whl")
+    tag = f"cp{sys.version_info[0]}{sys.version_info[1]}-none-{_wheel_tags().prebuilt_platform()}"
+    (wheel,) = tmp_path.glob(f"fastbearing-*-{tag}.whl")
     with zipfile.ZipFile(wheel) as z:
         names = z.namelist()
         manifest = json.loads(z.read("fastbearing/_prebuilt/manifest.json"))
     assert list(manifest["levels"]) == ["x86-64-v3"] and manifest["source_hash"] == source_hash()
     assert any(n.startswith("fastbearing/_prebuilt/x86-64-v3/engine/solver.solve_case") for n in names)
+
+
+def _wheel_tags():
+    """build_backend/wheel_tags.py, the release build's tag rule (imported by path: no package)."""
+    import importlib.util
+
+    path = Path(__file__).resolve().parents[1] / "build_backend" / "wheel_tags.py"
+    spec = importlib.util.spec_from_file_location("wheel_tags", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_a_prebuilt_wheel_is_tagged_for_the_platforms_numba_and_llvmlite_wheels_run_on(monkeypatch):
+    """Package indexes refuse a plain linux_x86_64 tag: the prebuilt wheel takes the manylinux tags that numba's
+    and llvmlite's own wheels share (the cached code calls into nothing else but the C maths library), and
+    this platform's tag only where they did not come from wheels."""
+    tags = _wheel_tags()
+    wheels = {"numba": {"manylinux_2_27_x86_64", "manylinux_2_28_x86_64"},
+              "llvmlite": {"manylinux_2_17_x86_64", "manylinux_2_27_x86_64", "manylinux_2_28_x86_64"}}
+    monkeypatch.setattr(tags, "wheel_platforms", lambda name: wheels[name])
+    assert tags.prebuilt_platform() == "manylinux_2_27_x86_64.manylinux_2_28_x86_64"
+    wheels["numba"] = set()  # a conda numba
+    assert tags.prebuilt_platform() == tags.sysconfig.get_platform().replace("-", "_").replace(".", "_")
+    wheels["numba"] = {"linux_x86_64"}  # built from source here
+    assert tags.prebuilt_platform().startswith("linux")
+    monkeypatch.undo()
+    import importlib.metadata
+
+    numba_wheel = importlib.metadata.distribution("numba").read_text("WHEEL") or ""
+    if "manylinux" in numba_wheel:  # this environment's numba from a wheel: its real tags
+        assert "manylinux" in tags.prebuilt_platform()
