@@ -641,7 +641,7 @@ def four_point_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact
     total = 0.0
     n_loaded = 0
     flags = 0
-    scratch = warm[N_WARM:, 0]  # 6 x 4 condensed stiffness, after the ball pass's use (a row slice: no reshape of a GPU thread's strided view)
+    scratch = warm.reshape(warm.size)[N_WARM * n:]  # 6 x 4 condensed stiffness, after the ball pass's use
     linearise = n > 0 and states is None and warm[WARM_LINEARISE, 0] != 0.0
     for b in range(pairs.shape[1]):
         j = int(pairs[0, b])

@@ -11,7 +11,7 @@ tangent/curved predictors along a map line, the high-speed balls, roller rows an
 CPU's code. The drivers here take and pass the same records as the CPU's (engine/contract.py); a
 thread's scratch is sized by the same contract.scratch_shape: the solver's and the predictor's as
 ``cuda.local.array``, the per-element record, life sums and the outer contacts' summary element-major (thread t's
-are column t of device arrays), the balls' warm starts too (:data:`ThreadRows`). A map's
+are column t of device arrays) and the balls' warm starts as one block per thread (:data:`ThreadRows`). A map's
 continuation runs are cut into GPU segments of at most :data:`SEGMENT_CASES` cases, one per thread, in blocks
 sized for the device (:func:`device_segments`, :func:`device_chunk`; docs/gpu.md).
 
@@ -97,8 +97,9 @@ def kernel(kind: str):
 #: neighbouring threads touching the same element touch neighbouring addresses (the per-element record, written
 #: at every kernel evaluation, the life sums, the outer contacts' summary): ``ball_load``, ``contact_angle``
 #: (record, T), ``sums`` (life_rows, 2, T), ``outer_load``, ``outer_count`` (rows, T); thread t's are ``[..., t]``.
-#: The balls' warm starts ``spin`` (warm_rows, n_balls, T) too: high_speed.py and four_point.py index a thread's
-#: ``spin[:, :, t]`` by row and column only (the chunk summaries in rows after the warm starts), never flattened.
+#: The balls' warm starts ``spin`` (T, warm_rows, n_balls) stay thread-major: high_speed.py and four_point.py take
+#: a thread's as one contiguous block (``warm.reshape(warm.size)``, the flat scratch after the warm starts), which a
+#: strided view is not (docs/gpu.md).
 #: ``table`` (T, N_BALL_COLUMNS, n_balls) and ``slices`` (T, N_SLICE_COLUMNS, n_slices): each thread's own copies
 #: of the element tables where a block's cases carry their own operating values (CaseBlock.operating; the kernel
 #: fills them from the shared tables, then sweep.with_operating writes each case's values), contract.ABSENT else.
@@ -127,7 +128,7 @@ def thread_rows(mem, shape: ScratchShape, n_threads: int, counts_dtype, with_spe
     starts zeroed: every ball cold, new_warm. ``own``: None, or the element set whose ball and slice tables each
     thread copies (a block whose cases carry their own operating values)."""
     T = n_threads
-    spin = np.zeros((shape.warm_rows, shape.n_balls, T) if with_speed else (1, 1, T))
+    spin = np.zeros((T, shape.warm_rows, shape.n_balls) if with_speed else (T, 1, 1))
     role = f"rows{part}."
     table = slices = mem.table(ABSENT)
     if own is not None:
@@ -280,8 +281,8 @@ def _part(a) -> np.ndarray:
 
 def device_elements(mem, balls: ElementSet) -> ElementSet:
     """The element set as a kernel argument: every part a table in ``mem`` (on the device once per job),
-    contract.ABSENT for a part it lacks and for the warm starts (each thread's are its column of the launch's
-    warm starts); the kernels make those None again (cuda_kernels.element_set)."""
+    contract.ABSENT for a part it lacks and for the warm starts (each thread's are its row of the launch's warm
+    starts); the kernels make those None again (cuda_kernels.element_set)."""
     return ElementSet(mem.table(_part(balls.balls)), mem.table(_part(balls.exponents)), float(balls.smoothing),
                       mem.table(_part(balls.slices)), mem.table(_part(balls.speed_table)), float(balls.omega),
                       mem.table(ABSENT), mem.table(_part(balls.four_point)))
@@ -294,13 +295,12 @@ def device_tables(mem, elements) -> Elements:
 
 
 def warm_starts(balls: ElementSet, n_threads: int) -> np.ndarray:
-    """Every thread's warm starts for the balls at speed, zeroed (every ball cold, high_speed.new_warm),
-    element-major (warm_rows, n_balls, n_threads): thread t's are ``[:, :, t]``; a (1, 1, n_threads) stand-in
-    for a quasi-static bearing (indexed, never read)."""
+    """Every thread's warm starts for the balls at speed, zeroed (every ball cold, high_speed.new_warm); a
+    (n_threads, 1, 1) stand-in for a quasi-static bearing (indexed, never read)."""
     if balls.speed_table is None:
-        return np.zeros((1, 1, n_threads))
+        return np.zeros((n_threads, 1, 1))
     n_balls = max(balls.balls.shape[1], 1)
-    return np.zeros((warm_rows(n_balls), n_balls, n_threads))
+    return np.zeros((n_threads, warm_rows(n_balls), n_balls))
 
 
 def _inputs(mem, cases: CaseBlock, results):

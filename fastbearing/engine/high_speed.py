@@ -80,11 +80,9 @@ STILL_DEFLECTION = 1e-12
 
 @njit(cache=CACHE)
 def warm_rows(n_balls):
-    """Rows of a ball set's warm scratch for ``n_balls`` balls: the N_WARM rows of warm starts and the
-    N_SUMMARY rows of one chunk's summaries after them (field k of the chunk's ball i at row N_WARM + k,
-    column i < min(CHUNK, n_balls)). Only rows and columns are indexed, never the scratch flattened, so a
-    strided view serves as well as an array: a GPU thread's column of element-major warm starts."""
-    return N_WARM + N_SUMMARY
+    """Rows of a ball set's warm scratch for ``n_balls`` balls: the N_WARM rows of warm starts and room for
+    one chunk of summaries after them."""
+    return N_WARM + (N_SUMMARY * CHUNK + n_balls - 1) // max(n_balls, 1)
 
 
 def warm_scratch(speed_table):
@@ -532,33 +530,33 @@ def _summary(st, db_r, db_z):
 
 @njit(inline="always")
 def _write_summary(out, i, sm):
-    """Store a :func:`_summary` as ball i of a chunk (field k at [k, i]: one store stream)."""
-    out[SM_GR, i] = sm[SM_GR]
-    out[SM_GZ, i] = sm[SM_GZ]
-    out[SM_QI, i] = sm[SM_QI]
-    out[SM_QO, i] = sm[SM_QO]
-    out[SM_CI, i] = sm[SM_CI]
-    out[SM_SI, i] = sm[SM_SI]
-    out[SM_CO, i] = sm[SM_CO]
-    out[SM_SO, i] = sm[SM_SO]
-    out[SM_FC, i] = sm[SM_FC]
-    out[SM_MG, i] = sm[SM_MG]
-    out[SM_WM, i] = sm[SM_WM]
-    out[SM_DI, i] = sm[SM_DI]
-    out[SM_DO, i] = sm[SM_DO]
-    out[SM_X00, i] = sm[SM_X00]
-    out[SM_X01, i] = sm[SM_X01]
-    out[SM_X10, i] = sm[SM_X10]
-    out[SM_X11, i] = sm[SM_X11]
-    out[SM_FR, i] = sm[SM_FR]
-    out[SM_FZ, i] = sm[SM_FZ]
-    out[SM_M, i] = sm[SM_M]
-    out[SM_K00, i] = sm[SM_K00]
-    out[SM_K01, i] = sm[SM_K01]
-    out[SM_K10, i] = sm[SM_K10]
-    out[SM_K11, i] = sm[SM_K11]
-    out[SM_M0, i] = sm[SM_M0]
-    out[SM_M1, i] = sm[SM_M1]
+    """Store a :func:`_summary` as ball i of a chunk (field k at k*CHUNK + i: one store stream)."""
+    out[SM_GR * CHUNK + i] = sm[SM_GR]
+    out[SM_GZ * CHUNK + i] = sm[SM_GZ]
+    out[SM_QI * CHUNK + i] = sm[SM_QI]
+    out[SM_QO * CHUNK + i] = sm[SM_QO]
+    out[SM_CI * CHUNK + i] = sm[SM_CI]
+    out[SM_SI * CHUNK + i] = sm[SM_SI]
+    out[SM_CO * CHUNK + i] = sm[SM_CO]
+    out[SM_SO * CHUNK + i] = sm[SM_SO]
+    out[SM_FC * CHUNK + i] = sm[SM_FC]
+    out[SM_MG * CHUNK + i] = sm[SM_MG]
+    out[SM_WM * CHUNK + i] = sm[SM_WM]
+    out[SM_DI * CHUNK + i] = sm[SM_DI]
+    out[SM_DO * CHUNK + i] = sm[SM_DO]
+    out[SM_X00 * CHUNK + i] = sm[SM_X00]
+    out[SM_X01 * CHUNK + i] = sm[SM_X01]
+    out[SM_X10 * CHUNK + i] = sm[SM_X10]
+    out[SM_X11 * CHUNK + i] = sm[SM_X11]
+    out[SM_FR * CHUNK + i] = sm[SM_FR]
+    out[SM_FZ * CHUNK + i] = sm[SM_FZ]
+    out[SM_M * CHUNK + i] = sm[SM_M]
+    out[SM_K00 * CHUNK + i] = sm[SM_K00]
+    out[SM_K01 * CHUNK + i] = sm[SM_K01]
+    out[SM_K10 * CHUNK + i] = sm[SM_K10]
+    out[SM_K11 * CHUNK + i] = sm[SM_K11]
+    out[SM_M0 * CHUNK + i] = sm[SM_M0]
+    out[SM_M1 * CHUNK + i] = sm[SM_M1]
 
 
 @njit(inline="always")
@@ -566,15 +564,15 @@ def _read_summary(out, i):
     """Ball i of a chunk: its :func:`_summary`, the centre B taken (br, bz; the next Newton iterate where
     the verdict of :func:`_judge` is STEP), the linearised step (db_r, db_z), whether that is exact, and
     the verdict."""
-    sm = (out[SM_GR, i], out[SM_GZ, i], out[SM_QI, i], out[SM_QO, i],
-          out[SM_CI, i], out[SM_SI, i], out[SM_CO, i], out[SM_SO, i],
-          out[SM_FC, i], out[SM_MG, i], out[SM_WM, i], out[SM_DI, i],
-          out[SM_DO, i], out[SM_X00, i], out[SM_X01, i], out[SM_X10, i],
-          out[SM_X11, i], out[SM_FR, i], out[SM_FZ, i], out[SM_M, i],
-          out[SM_K00, i], out[SM_K01, i], out[SM_K10, i], out[SM_K11, i],
-          out[SM_M0, i], out[SM_M1, i])
-    return (sm, out[SM_BR, i], out[SM_BZ, i], out[SM_DBR, i], out[SM_DBZ, i],
-            out[SM_EXACT, i] != 0.0, out[SM_VERDICT, i])
+    sm = (out[SM_GR * CHUNK + i], out[SM_GZ * CHUNK + i], out[SM_QI * CHUNK + i], out[SM_QO * CHUNK + i],
+          out[SM_CI * CHUNK + i], out[SM_SI * CHUNK + i], out[SM_CO * CHUNK + i], out[SM_SO * CHUNK + i],
+          out[SM_FC * CHUNK + i], out[SM_MG * CHUNK + i], out[SM_WM * CHUNK + i], out[SM_DI * CHUNK + i],
+          out[SM_DO * CHUNK + i], out[SM_X00 * CHUNK + i], out[SM_X01 * CHUNK + i], out[SM_X10 * CHUNK + i],
+          out[SM_X11 * CHUNK + i], out[SM_FR * CHUNK + i], out[SM_FZ * CHUNK + i], out[SM_M * CHUNK + i],
+          out[SM_K00 * CHUNK + i], out[SM_K01 * CHUNK + i], out[SM_K10 * CHUNK + i], out[SM_K11 * CHUNK + i],
+          out[SM_M0 * CHUNK + i], out[SM_M1 * CHUNK + i])
+    return (sm, out[SM_BR * CHUNK + i], out[SM_BZ * CHUNK + i], out[SM_DBR * CHUNK + i], out[SM_DBZ * CHUNK + i],
+            out[SM_EXACT * CHUNK + i] != 0.0, out[SM_VERDICT * CHUNK + i])
 
 
 @njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
@@ -624,7 +622,7 @@ def _predicted_chunk(q, table, speed_table, omega, eps, warm, out, j0, m, linear
     """Balls j0 .. j0+m-1 at their first-order predictions from ``warm`` (``cold``: at their cold guesses,
     :func:`start_position`; SM_LOADED 0 where the rings leave the ball room to be free): state, judgement
     (:func:`_judge`; where it says STEP, the step's end as the centre) and :func:`_summary` into ``out``
-    (field k of ball j0+i at [k, i]).
+    (flat, field k of ball j0+i at k*CHUNK + i).
     Branch-free passes over the balls, so that they vectorise; a ball without a warm start in a warm
     chunk gets a meaningless summary, which the caller does not read."""
     if cold:
@@ -632,18 +630,18 @@ def _predicted_chunk(q, table, speed_table, omega, eps, warm, out, j0, m, linear
             ur, uz = _inner_centre(q, table, j0 + i)
             p, w_i, w_o = _ball_constants(speed_table, j0 + i, omega)
             br, bz, _ = _start_inline(ur, uz, p, w_i, w_o, eps)
-            out[SM_BR, i] = br
-            out[SM_BZ, i] = bz
+            out[SM_BR * CHUNK + i] = br
+            out[SM_BZ * CHUNK + i] = bz
     for i in range(m):
         j = j0 + i
         ur, uz = _inner_centre(q, table, j)
         p, w_i, w_o = _ball_constants(speed_table, j, omega)
         br, bz = _prediction(warm, j, ur, uz)
         if cold:
-            br = out[SM_BR, i]
-            bz = out[SM_BZ, i]
+            br = out[SM_BR * CHUNK + i]
+            bz = out[SM_BZ * CHUNK + i]
         # room to be free (warm or cold alike: the ball's state must not depend on the history)
-        out[SM_LOADED, i] = 0.0 if free_position(ur, uz, p, w_i, w_o, eps)[1] else 1.0
+        out[SM_LOADED * CHUNK + i] = 0.0 if free_position(ur, uz, p, w_i, w_o, eps)[1] else 1.0
         st = ball_state(ur, uz, br, bz, p, w_i, w_o, eps)
         reach = p[INNER_RADIUS] + p[OUTER_RADIUS] + abs(ur) + abs(uz)
         verdict, db_r, db_z, exact = _judge(st, reach, linearise)
@@ -653,14 +651,14 @@ def _predicted_chunk(q, table, speed_table, omega, eps, warm, out, j0, m, linear
             br -= db_r * t
             bz -= db_z * t
         _write_summary(out, i, sm)
-        out[SM_BR, i] = br
-        out[SM_BZ, i] = bz
-        out[SM_VERDICT, i] = verdict
-        out[SM_EXACT, i] = 1.0 if exact else 0.0
-        out[SM_DBR, i] = db_r
-        out[SM_DBZ, i] = db_z
-        out[SM_UR, i] = ur
-        out[SM_UZ, i] = uz
+        out[SM_BR * CHUNK + i] = br
+        out[SM_BZ * CHUNK + i] = bz
+        out[SM_VERDICT * CHUNK + i] = verdict
+        out[SM_EXACT * CHUNK + i] = 1.0 if exact else 0.0
+        out[SM_DBR * CHUNK + i] = db_r
+        out[SM_DBZ * CHUNK + i] = db_z
+        out[SM_UR * CHUNK + i] = ur
+        out[SM_UZ * CHUNK + i] = uz
 
 
 #: The ring sums' start: f and the five columns of Kb.
@@ -742,7 +740,7 @@ def _ball_pass(q, table, speed_table, omega, eps, ball_load, contact_angle, stat
     n_loaded = 0
     flags = 0
     linearise = n > 0 and states is None and warm[WARM_LINEARISE, 0] != 0.0
-    out = warm[N_WARM:]  # the chunk's summaries: the rows after the warm starts (field k of chunk ball i at [k, i])
+    out = warm.reshape(warm.size)[N_WARM * n:]  # the scratch's tail, flat
     for j0 in range(0, n, CHUNK):
         m = min(CHUNK, n - j0)
         # a chunk with no warm start at all (a case's first evaluation) starts from the cold guesses
@@ -752,12 +750,12 @@ def _ball_pass(q, table, speed_table, omega, eps, ball_load, contact_angle, stat
             j = j0 + i
             if speed_table[PARTNER, j] >= 0.0:  # a four-point ball's pair: engine/four_point.py settles it
                 continue
-            ur, uz = out[SM_UR, i], out[SM_UZ, i]  # the pass's inner groove centre
+            ur, uz = out[SM_UR * CHUNK + i], out[SM_UZ * CHUNK + i]  # the pass's inner groove centre
             sm, br, bz, db_r, db_z, exact, verdict = _read_summary(out, i)
             iterations = 0
             settled = True
             start = False  # (br, bz) is a start for a settle: the prediction
-            room = out[SM_LOADED, i] == 0.0
+            room = out[SM_LOADED * CHUNK + i] == 0.0
             if cold:
                 # settled or linearised at the cold guess: what settle_ball would return (a ball that needs a
                 # step is settled by it from the step's end, its next iterate); room to be free: settle_ball

@@ -92,7 +92,7 @@ N_WARM = 10
  BS_MB_Z, BS_QI, BS_QO, BS_CI, BS_SI, BS_CO, BS_SO, BS_FC, BS_MG, BS_WM, BS_DI, BS_DO) = range(36)
 
 # -- the predicted balls' summaries (high_speed._summary), a chunk at a time, in the warm scratch's tail -----------
-#: Field k of ball i of a chunk at row N_WARM + k, column i (one store stream per field). SM_GR .. SM_M1 are the
+#: Field k of ball i of a chunk at k * CHUNK + i (one store stream per field). SM_GR .. SM_M1 are the
 #: summary proper; the rest is the vectorised pass's bookkeeping.
 CHUNK = 32
 (SM_GR, SM_GZ, SM_QI, SM_QO, SM_CI, SM_SI, SM_CO, SM_SO, SM_FC, SM_MG, SM_WM, SM_DI, SM_DO, SM_X00, SM_X01, SM_X10,
