@@ -557,7 +557,9 @@ def map_runs(runs, elements, cases, given_load, settings, stop, scratch):
     for run in runs:
         if stop_requested(stop):
             break
-        slope_known = False  # whether predictor[_SLOPE] holds the tangent step of case i - 1
+        # whether predictor[_SLOPE] holds the tangent step of case i - 1; np.bool_, not the literal False: numba
+        # compiled curved_predictor once for Literal[bool](False) (its first guess of the type) and again for bool
+        slope_known = np.bool_(False)
         for i in range(segments[run], segments[run + 1]):
             if stop_requested(stop):
                 break
@@ -571,7 +573,7 @@ def map_runs(runs, elements, cases, given_load, settings, stop, scratch):
                                      predictor[_SLOPE], slope_known)
                 slope_known = took_tangent
             else:
-                slope_known = False
+                slope_known = np.bool_(False)
             out.status[i], out.iterations[i], out.residual[i] = operating_point(
                 given_load, inputs[i], warm, out.q[i], out.f[i], out.K[i],
                 at_speed(with_operating(elements.balls, cases, i, scratch.table, scratch.slices),
