@@ -81,12 +81,14 @@ atexit.register(lambda: open(os.environ["COMPILE_SIGNATURES"], "a").write("".joi
 
 
 def print_signatures(path: Path) -> None:
-    """The package's functions compiled in more than one signature, each signature with its CPU seconds."""
-    seen = collections.defaultdict(list)
+    """The package's functions compiled in more than one signature, each signature with its CPU seconds (an
+    inlined overload compiled again in each step's process, in one signature, is not listed)."""
+    seen = collections.defaultdict(dict)
     for line in path.read_text().splitlines():
         name, args, cpu = json.loads(line)
-        seen[name].append((args, cpu))
-    several = {name: sigs for name, sigs in seen.items() if name.startswith("fastbearing.") and len(sigs) > 1}
+        seen[name][args] = seen[name].get(args, 0.0) + cpu
+    several = {name: list(sigs.items()) for name, sigs in seen.items()
+               if name.startswith("fastbearing.") and len(sigs) > 1}
     print(f"\nfunctions compiled in more than one signature: {len(several)}")
     for name, sigs in sorted(several.items(), key=lambda kv: -sum(cpu for _, cpu in kv[1])):
         print(f"{name}: {len(sigs)}")
