@@ -56,10 +56,13 @@ def test_numba_thread_count_is_the_number_of_threads():
 
 def test_an_error_in_a_thread_is_raised_once_every_thread_has_ended():
     ended = []
+    started = threading.Event()
 
     def kernel(counter, n_items):
         if threading.current_thread() is not threading.main_thread():
+            started.set()
             raise ValueError("from a pool thread")
+        started.wait(10.0)  # the pool's task running, so not cancelled: its error must reach the caller
         ended.append(True)
 
     if numba.config.NUMBA_NUM_THREADS < 2:
@@ -67,6 +70,18 @@ def test_an_error_in_a_thread_is_raised_once_every_thread_has_ended():
     with pytest.raises(ValueError, match="pool thread"):
         share(kernel, 2, 2)
     assert ended == [True]
+
+
+def test_two_callers_at_once_each_get_every_item():
+    """Two threads sharing at once: the pool's threads may be busy with the other caller's items, and each
+    caller then takes its own items alone (the tasks it queued are cancelled, never waited for)."""
+    results = [np.zeros(500, np.int64), np.zeros(500, np.int64)]
+    callers = [threading.Thread(target=share, args=(_take_all, 500, 500, taken)) for taken in results]
+    for caller in callers:
+        caller.start()
+    for caller in callers:
+        caller.join()
+    assert all((taken == 1).all() for taken in results)
 
 
 def test_no_items_runs_nothing():

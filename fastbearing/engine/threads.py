@@ -46,6 +46,9 @@ def share(kernel, n_items: int, *args) -> None:
     try:
         kernel(counter, *args)
     finally:
+        for other in others:
+            other.cancel()  # not started yet (the pool busy with another caller's items): nothing left to take
         wait(others)
-    for done in others:
-        done.result()
+    for other in others:
+        if not other.cancelled():
+            other.result()
