@@ -8,14 +8,19 @@ machine state, alternating round by round. Timed, compute alone (no HDF5), as th
 
 - the 1M example map: 198 000 cases (2 000 lines of 99) in one block (``loadmap.compute_block``);
 - the speed map: the shipped spindle example at 25 speeds x 10 x 400 (100 000 cases) in one block;
-- a ball-passage table: the DB pair, 1000 points x 64 positions (``passage.compute_block``).
+- a ball-passage table: the DB pair, 1000 points x 64 positions (``passage.compute_block``);
+- the roller map: bench/test_rollers.py's 30206 TDO pair, 60 000 cases in one block;
+- a batch: ``solve_many`` of 100 000 random loads on the DB pair, cold (the sweep's blocks of independent solves).
 
 Prints the median (min) seconds of each and whether both trees' results are equal bit for bit (every array;
 those that differ are named). ``workload``: only those whose name contains it (e.g. ``speed``).
-Used for issue 46 (the engine's records replacing positional lists must leave the CPU's speed unchanged).
+Used for issue 46 (the engine's records replacing positional lists must leave the CPU's speed unchanged) and
+issue 45 (threads instead of ``prange``). ``AB_FOLDER=DIR`` unpacks REV there once and keeps it, with its numba
+cache, for the next run (else a temporary folder: the old tree compiles again every run).
 """
 
 import importlib
+import os
 import shutil
 import subprocess
 import sys
@@ -32,6 +37,9 @@ sys.path.insert(0, str(ROOT))  # this tree's package, whatever else is installed
 
 def load_old(rev: str, folder: Path):
     """The package of ``rev`` importable as ``fastbearing_ab`` (its relative imports keep it to itself)."""
+    if (folder / "fastbearing_ab").is_dir():  # kept by AB_FOLDER
+        sys.path.insert(0, str(folder))
+        return importlib.import_module("fastbearing_ab")
     tar = subprocess.run(["git", "-C", str(ROOT), "archive", rev, "fastbearing"], capture_output=True, check=True)
     subprocess.run(["tar", "-x", "-C", str(folder)], input=tar.stdout, check=True)
     shutil.move(folder / "fastbearing", folder / "fastbearing_ab")
@@ -59,6 +67,22 @@ def passage_case(pkg: str, config):
     return job.compute, buf.view(n), cfg.cases.inputs(0, n)
 
 
+def batch_case(pkg: str, n: int):
+    """(compute, results, loads) of ``solve_many`` on n random loads of the DB pair, cold: the batch's sweep."""
+    fb = importlib.import_module(pkg)
+    bearing = fb.Bearing.preset("gunduz2013", "DB")
+    rng = np.random.default_rng(0)
+    loads = np.column_stack([rng.uniform(0, 5000, n), np.zeros(n), rng.uniform(0, 5000, n), np.zeros(n),
+                             rng.uniform(-1e5, 1e5, n)])
+    res = {}
+
+    def compute(inputs, res, first, stop):
+        out = fb.solve_many(bearing, inputs)
+        res.update(q=out.q, K=out.K, status=out.status, iterations=out.iterations)
+
+    return compute, res, loads
+
+
 def workloads():
     import tomllib
 
@@ -66,13 +90,20 @@ def workloads():
     speed["loadmap"]["Fx"] = {"start": 0.0, "stop": 1000.0, "num": 10}
     speed["loadmap"]["Fz"] = {"start": 0.0, "stop": 2000.0, "num": 400}
     speed["bearing"] = str(ROOT / "fastbearing" / "catalogue" / "7014C-DB.toml")
+    tdo = tomllib.loads((ROOT / "fastbearing" / "catalogue" / "30206-TDO.toml").read_text())
+    roller = {"bearing": tdo["bearing"],
+              "loadmap": {"given": "load", "Fx": {"start": 500.0, "stop": 8000.0, "num": 30}, "Fy": 0.0,
+                          "Fz": {"start": 0.0, "stop": 3000.0, "num": 20}, "Mx": 0.0,
+                          "My": {"start": -1e5, "stop": 1e5, "num": 100}}}
     table = {"bearing": {"preset": "gunduz2013", "arrangement": "DB"},
              "passage": {"given": "load", "Fx": {"start": 200.0, "stop": 5000.0, "num": 40},
                          "Fz": {"start": 500.0, "stop": 5000.0, "num": 25}, "My": -74000.0, "positions": 64}}
     return {"1M example map, 198 000 cases": lambda pkg: map_case(pkg, ROOT / "data" / "examples" /
                                                                   "gunduz2013-db-1M.toml", 198_000),
             "speed map, 100 000 cases": lambda pkg: map_case(pkg, speed, 100_000),
-            "passage table, 1000 x 64": lambda pkg: passage_case(pkg, table)}
+            "passage table, 1000 x 64": lambda pkg: passage_case(pkg, table),
+            "roller map, 60 000 cases": lambda pkg: map_case(pkg, roller, 60_000),
+            "batch, 100 000 solves": lambda pkg: batch_case(pkg, 100_000)}
 
 
 def differences(a: dict, b: dict) -> list[str]:
@@ -89,8 +120,11 @@ def differences(a: dict, b: dict) -> list[str]:
 def main(rev="HEAD", rounds=5, threads=None, only=""):
     if threads:
         numba.set_num_threads(int(threads))
+    keep = os.environ.get("AB_FOLDER")
     with tempfile.TemporaryDirectory() as tmp:
-        load_old(rev, Path(tmp))
+        folder = Path(keep) if keep else Path(tmp)
+        folder.mkdir(parents=True, exist_ok=True)
+        load_old(rev, folder)
         import fastbearing
 
         print(f"A: {rev} (fastbearing_ab), B: {Path(fastbearing.__file__).parent}; {numba.get_num_threads()} threads, "

@@ -13,11 +13,16 @@ files) and their size. The steps, in order:
 
 Each step's CPU time (user + system of its process) is printed beside the wall time: on a shared machine it
 is the steadier figure (numba compiles on one thread). ``--warmup`` runs ``fastbearing warmup`` first (its
-time printed on a line of its own): the steps after it should compile nothing (issue 45).
+time printed on a line of its own): the steps after it should compile nothing (issue 45). ``--signatures``
+lists, at the end, the package's functions that numba compiled in more than one signature over the steps
+(numba's compile events, each with its CPU seconds including its callees'): the candidates for fewer
+specialised variants (a literal beside a plain bool, None beside an array, int beside float ...).
 
-    python bench/compile_variants.py [--warmup]
+    python bench/compile_variants.py [--warmup] [--signatures]
 """
 
+import collections
+import json
 import os
 import resource
 import subprocess
@@ -52,6 +57,45 @@ STEPS = {
 }
 
 
+#: Put before each step's code with --signatures: every compilation's function, argument types and CPU seconds
+#: (callees included) appended to the file COMPILE_SIGNATURES names, at the process's exit.
+LISTEN = """
+import atexit, json, os, time
+from numba.core import event
+
+_started, _done = [], []
+
+
+class _Listen(event.Listener):
+    def on_start(self, ev):
+        _started.append(time.process_time())
+
+    def on_end(self, ev):
+        f = ev.data["dispatcher"].py_func
+        _done.append((f.__module__ + "." + f.__qualname__, str(ev.data["args"]), time.process_time() - _started.pop()))
+
+
+event.register("numba:compile", _Listen())
+atexit.register(lambda: open(os.environ["COMPILE_SIGNATURES"], "a").write("".join(json.dumps(d) + "\\n" for d in _done)))
+"""
+
+
+def print_signatures(path: Path) -> None:
+    """The package's functions compiled in more than one signature, each signature with its CPU seconds (an
+    inlined overload compiled again in each step's process, in one signature, is not listed)."""
+    seen = collections.defaultdict(dict)
+    for line in path.read_text().splitlines():
+        name, args, cpu = json.loads(line)
+        seen[name][args] = seen[name].get(args, 0.0) + cpu
+    several = {name: list(sigs.items()) for name, sigs in seen.items()
+               if name.startswith("fastbearing.") and len(sigs) > 1}
+    print(f"\nfunctions compiled in more than one signature: {len(several)}")
+    for name, sigs in sorted(several.items(), key=lambda kv: -sum(cpu for _, cpu in kv[1])):
+        print(f"{name}: {len(sigs)}")
+        for args, cpu in sigs:
+            print(f"  {cpu:6.2f} s  {args}")
+
+
 def _children_cpu() -> float:
     usage = resource.getrusage(resource.RUSAGE_CHILDREN)
     return usage.ru_utime + usage.ru_stime
@@ -60,6 +104,9 @@ def _children_cpu() -> float:
 def main() -> None:
     cache = Path(tempfile.mkdtemp(prefix="numba-cache-"))
     env = {**os.environ, "NUMBA_CACHE_DIR": str(cache)}
+    listen = "--signatures" in sys.argv[1:]
+    if listen:
+        env["COMPILE_SIGNATURES"] = str(cache / "signatures.jsonl")
     if "--warmup" in sys.argv[1:]:
         t, cpu = time.perf_counter(), _children_cpu()
         subprocess.run([sys.executable, "-m", "fastbearing.cli", "warmup"], env=env, check=True, timeout=3600)
@@ -68,7 +115,7 @@ def main() -> None:
     total = total_cpu = 0.0
     for name, code in STEPS.items():
         t, cpu = time.perf_counter(), _children_cpu()
-        subprocess.run([sys.executable, "-c", code], env=env, check=True, timeout=900)
+        subprocess.run([sys.executable, "-c", (LISTEN if listen else "") + code], env=env, check=True, timeout=900)
         dt, dcpu = time.perf_counter() - t, _children_cpu() - cpu
         total += dt
         total_cpu += dcpu
@@ -77,6 +124,8 @@ def main() -> None:
     size = sum(p.stat().st_size for p in cache.rglob("*.nb[ci]"))
     print(f"{'all steps':45s} {total:6.1f} s   CPU {total_cpu:6.1f} s   {len(list(cache.rglob('*.nbc')))} variants, "
           f"{size / 1e6:.1f} MB")
+    if listen:
+        print_signatures(cache / "signatures.jsonl")
 
 
 if __name__ == "__main__":

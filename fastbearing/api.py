@@ -360,7 +360,8 @@ def check_threads(n):
 
 @contextlib.contextmanager
 def num_threads(n):
-    """Run numba's parallel loops on ``n`` threads inside the block (None: leave as is)."""
+    """Run the sweeps on ``n`` threads inside the block (numba's thread count, which engine.threads.share reads;
+    None: leave as is)."""
     n = check_threads(n)
     if n is None:
         yield

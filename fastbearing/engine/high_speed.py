@@ -468,10 +468,10 @@ def settle_ball(ur, uz, p, w_i, w_o, smoothing_eps, warm_br=0.0, warm_bz=0.0, wa
     """
     brf, room = free_position(ur, uz, p, w_i, w_o, smoothing_eps)
     if room:
-        # the iteration limits typed as int64, not literals: numba would compile _newton (and the ball state
-        # inlined in it) once per literal, about 1.7 s each
+        # the iteration limits typed as int64 and the flag as bool, not literals: numba would compile _newton
+        # (and the ball state inlined in it) once per literal, about 1.7-2.5 s each
         st, br, bz, it, settled, _, _, _ = _newton(ur, uz, brf, 0.0, free_constants(p), w_i, w_o, smoothing_eps,
-                                                   np.int64(BALL_ITERATIONS), False)
+                                                   np.int64(BALL_ITERATIONS), np.bool_(False))
         if settled and st[BS_DI] <= 0.0:
             return st, br, bz, -1, True, 0.0, 0.0, True
     if warm:

@@ -1,4 +1,4 @@
-"""Parallel drivers: thin ``prange`` loops over blocks of cases.
+"""Parallel drivers: serial ``nogil`` kernels over blocks of cases, run by a few Python threads (engine/threads.py).
 
 Each block allocates its scratch once and calls the serial kernels case by
 case, so a case's result never depends on the thread count or on which
@@ -8,7 +8,7 @@ thread ran it.
 import math
 
 import numpy as np
-from numba import njit, prange, types
+from numba import njit, types
 from numba.core.cpu import CPUContext
 from numba.extending import intrinsic, overload
 
@@ -20,7 +20,8 @@ from .schema import (A0, GAP2, HALF_COUNT, MIRROR_HALF, OP_APPROACH, OP_GAP2, OP
                      S_OFFSET, S_ROW, UR0, UZ0)
 from .schema import LIFE_CE, LIFE_CI, LIFE_FIRST, LIFE_INNER, LIFE_SLICES, LIFE_X0, LIFE_Y0, LIFE_Z
 from .solver import WORK_ROWS, solve_case, with_warnings
-from .contract import CaseBlock, Elements, Scratch, scratch_shape
+from .contract import Scratch, scratch_shape
+from .threads import share
 from ..status import BALL_UNSETTLED, CONVERGED, NONFINITE_RESULT, OUTCOME_MASK, UNLOADED
 
 
@@ -40,6 +41,20 @@ def _load_flag(typingctx, flag):
         return builder.load(data)
 
     return types.int64(flag), codegen
+
+
+@intrinsic
+def _claim(typingctx, counter):
+    """counter[0] += 1 as one atomic step, returning the old value: the next item (block, group) of the threads
+    that share ``counter`` (threads.share), each item taken by exactly one of them. CPU only."""
+    if not (isinstance(counter, types.Array) and counter.dtype == types.int64 and counter.ndim == 1):
+        return None
+
+    def codegen(context, builder, signature, args):
+        data = context.make_array(signature.args[0])(context, builder, args[0]).data
+        return builder.atomic_rmw("add", data, context.get_constant(types.int64, 1), "monotonic")
+
+    return types.int64(counter), codegen
 
 
 @njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
@@ -142,32 +157,30 @@ def forget_if(warm, fresh):
         forget_warm(warm)
 
 
-# numba's parallel loops take a record argument whole only when it holds no record ("scalar type ... given for non
-# scalar argument" for a nested one, numba 0.68): the drivers below get the records' flat parts and put them
-# together again inside the loop body, where building a record costs nothing.
-
 def solve_sweep(balls, cases, settings, warm, block):
     """Solve every row of ``cases.inputs`` (N, 5; N, N*mm) into ``cases.results`` (a contract.Solutions); its q
     holds warm starts when ``warm``; with a spinning ball set, case i runs at ``cases.speeds[i]`` rad/s
     (:func:`at_speed`), and with ``cases.operating`` at its own clearance and preload (:func:`with_operating`).
-    Blocks of ``block`` cases, each with its own scratch."""
-    solve_blocks(balls, tuple(cases[:5]), cases.results, settings, warm, block)
+    Blocks of ``block`` cases, each with its own scratch, shared among numba's thread count of threads."""
+    n = cases.inputs.shape[0]
+    share(solve_blocks, (n + block - 1) // block, balls, cases, settings, warm, block)
 
 
-@njit(parallel=True, cache=CACHE, error_model=ERROR_MODEL)
-def solve_blocks(balls, arrays, results, settings, warm, block):
-    """:func:`solve_sweep`'s parallel loop over blocks (``arrays``: the CaseBlock's inputs, segments, speeds,
-    operating, ball_sizes)."""
-    n = arrays[0].shape[0]
+@njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True)
+def solve_blocks(claimed, balls, cases, settings, warm, block):
+    """One thread's part of :func:`solve_sweep`: blocks taken from the counter ``claimed`` (:func:`_claim`)
+    until none is left."""
+    n = cases.inputs.shape[0]
     n_blocks = (n + block - 1) // block
-    for b in prange(n_blocks):
-        cases = CaseBlock(arrays[0], arrays[1], arrays[2], arrays[3], arrays[4], results)
+    b = _claim(claimed)
+    while b < n_blocks:
         work = np.empty((WORK_ROWS, 5))
         spin = warm_scratch(balls.speed_table)
         table, slices = own_tables(balls, cases.operating)
         for i in range(b * block, min(n, (b + 1) * block)):
             mine = with_operating(balls, cases, i, table, slices)
             solve_into(cases, i, at_speed(mine, cases.speeds, i, spin, True), settings, warm, work)
+        b = _claim(claimed)
 
 
 @njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
@@ -182,18 +195,25 @@ def solve_into(cases, i, balls, settings, warm, work):
     out.evaluations[i] = solved.evaluations
 
 
-@njit(parallel=True, cache=CACHE, error_model=ERROR_MODEL)
 def stiffness_sweep(q, f, K, balls, speeds, block, unsettled):
     """f and Kb at every row of q (N, 5) by direct substitution (case i at ``speeds[i]`` rad/s with a
     spinning ball set); ``unsettled[i]`` True where at speed some ball's own equilibrium did not settle
-    (f and Kb there are not the model's)."""
+    (f and Kb there are not the model's). Blocks of ``block`` cases shared among threads, as solve_sweep's."""
+    share(stiffness_blocks, (q.shape[0] + block - 1) // block, q, f, K, balls, speeds, block, unsettled)
+
+
+@njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True)
+def stiffness_blocks(claimed, q, f, K, balls, speeds, block, unsettled):
+    """One thread's part of :func:`stiffness_sweep`: blocks taken from the counter ``claimed``."""
     n = q.shape[0]
     n_blocks = (n + block - 1) // block
-    for b in prange(n_blocks):
+    b = _claim(claimed)
+    while b < n_blocks:
         spin = warm_scratch(balls.speed_table)
         for i in range(b * block, min(n, (b + 1) * block)):
             warnings = ball_loop(q[i], at_speed(balls, speeds, i, spin, True), f[i], K[i], None, None)[2]
             unsettled[i] = (warnings & BALL_UNSETTLED) != 0
+        b = _claim(claimed)
 
 
 @njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
@@ -497,22 +517,23 @@ def map_sweep(elements, cases, given_load, settings, stop):
     (smallest, largest loaded outer contact angle per row, rad) are filled in a map at speed (else (1, rows),
     untouched). The per-thread scratch is sized by contract.scratch_shape, as on the GPU.
     """
-    map_groups(elements.balls, tuple(elements[1:]), tuple(cases[:5]), cases.results, scratch_shape(elements, cases),
-               given_load, settings, stop)
+    n_runs = cases.segments.shape[0] - 1
+    share(map_groups, min(n_runs, MAP_GROUPS), elements, cases, scratch_shape(elements, cases), given_load, settings,
+          stop)
 
 
-@njit(parallel=True, cache=CACHE, error_model=ERROR_MODEL, nogil=True)
-def map_groups(balls, tables, arrays, results, shape, given_load, settings, stop):
-    """:func:`map_sweep`'s parallel loop: the block's runs shared among MAP_GROUPS groups, each with one
-    Scratch of ``shape`` (contract.ScratchShape). The records come in parts (``tables``: Elements' ball_row,
-    life, C0; ``arrays``: CaseBlock's inputs, segments, speeds, operating, ball_sizes)."""
-    n_runs = arrays[1].shape[0] - 1
+@njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True)
+def map_groups(claimed, elements, cases, shape, given_load, settings, stop):
+    """One thread's part of :func:`map_sweep`'s block: the block's runs fall in min(runs, MAP_GROUPS) groups
+    (group g: runs g, g + groups, ...), taken from the counter ``claimed`` (:func:`_claim`) until none is left,
+    each with a Scratch of ``shape`` (contract.ScratchShape) of its own."""
+    n_runs = cases.segments.shape[0] - 1
     groups = min(n_runs, MAP_GROUPS)
-    for g in prange(groups):
-        elements = Elements(balls, tables[0], tables[1], tables[2])
-        cases = CaseBlock(arrays[0], arrays[1], arrays[2], arrays[3], arrays[4], results)
-        scratch = new_scratch(shape, balls, cases.operating, results.n_loaded)
+    g = _claim(claimed)
+    while g < groups:
+        scratch = new_scratch(shape, elements.balls, cases.operating, cases.results.n_loaded)
         map_runs(range(g, n_runs, groups), elements, cases, given_load, settings, stop, scratch)
+        g = _claim(claimed)
 
 
 @njit(inline="always")
@@ -536,7 +557,9 @@ def map_runs(runs, elements, cases, given_load, settings, stop, scratch):
     for run in runs:
         if stop_requested(stop):
             break
-        slope_known = False  # whether predictor[_SLOPE] holds the tangent step of case i - 1
+        # whether predictor[_SLOPE] holds the tangent step of case i - 1; np.bool_, not the literal False: numba
+        # compiled curved_predictor once for Literal[bool](False) (its first guess of the type) and again for bool
+        slope_known = np.bool_(False)
         for i in range(segments[run], segments[run + 1]):
             if stop_requested(stop):
                 break
@@ -550,7 +573,7 @@ def map_runs(runs, elements, cases, given_load, settings, stop, scratch):
                                      predictor[_SLOPE], slope_known)
                 slope_known = took_tangent
             else:
-                slope_known = False
+                slope_known = np.bool_(False)
             out.status[i], out.iterations[i], out.residual[i] = operating_point(
                 given_load, inputs[i], warm, out.q[i], out.f[i], out.K[i],
                 at_speed(with_operating(elements.balls, cases, i, scratch.table, scratch.slices),
@@ -622,24 +645,27 @@ def passage_sweep(elements, positions, cases, given_load, settings, stop):
     if cases.operating is not None or cases.ball_sizes is not None:
         raise ValueError("cases.operating: a passage table's cases take the bearing's own clearance and preload "
                          "(None); per-case operating values are for maps and batches")
-    passage_groups(elements.balls, tuple(elements[1:]), positions, tuple(cases[:5]), cases.results,
-                   scratch_shape(elements, cases), given_load, settings, stop)
+    n_points = cases.inputs.shape[0]
+    share(passage_groups, min(n_points, MAP_GROUPS), elements, positions, cases, scratch_shape(elements, cases),
+          given_load, settings, stop)
 
 
-@njit(parallel=True, cache=CACHE, error_model=ERROR_MODEL, nogil=True)
-def passage_groups(balls, tables, positions, arrays, results, shape, given_load, settings, stop):
-    """:func:`passage_sweep`'s parallel loop: the points shared among MAP_GROUPS groups, each with one
-    Scratch of ``shape`` (contract.ScratchShape); the records in parts, as :func:`map_groups`'."""
-    n_points = arrays[0].shape[0]
+@njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True)
+def passage_groups(claimed, elements, positions, cases, shape, given_load, settings, stop):
+    """One thread's part of :func:`passage_sweep`: the points fall in min(points, MAP_GROUPS) groups (group g:
+    points g, g + groups, ...), taken from the counter ``claimed`` until none is left, each with a Scratch of
+    ``shape`` of its own."""
+    n_points = cases.inputs.shape[0]
     groups = min(n_points, MAP_GROUPS)
-    for g in prange(groups):
-        elements = Elements(balls, tables[0], tables[1], tables[2])
-        cases = CaseBlock(arrays[0], arrays[1], arrays[2], arrays[3], arrays[4], results)
-        scratch = new_scratch(shape, balls, None, results.n_loaded)  # a passage table's cases: the bearing's own
+    g = _claim(claimed)
+    while g < groups:
+        # a passage table's cases are the bearing as its tables hold it: no operating values of their own
+        scratch = new_scratch(shape, elements.balls, None, cases.results.n_loaded)
         for i in range(g, n_points, groups):
             if stop_requested(stop):
                 break
             passage_point(i, elements, positions, cases, given_load, settings, scratch)
+        g = _claim(claimed)
 
 
 @njit(cache=CACHE, error_model=ERROR_MODEL, nogil=True, _nrt=REFCOUNT)
