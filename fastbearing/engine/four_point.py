@@ -12,9 +12,10 @@ omega_m^2), and pair a's races carry w_a M_g,a by its own race control. A ball w
 is exactly the angular contact ball of pair +.
 
 f is the model's; the derivatives (the ball's Newton Jacobian and Kb, condensed over B as the angular contact
-ball's: dF/du = F_u - F_B G_B^-1 G_u) come from one forward-mode pass in dual numbers (:func:`ball_jacobian`:
-each quantity carried with its six partial derivatives, real arithmetic), exact to rounding, so that the
-contact, kinematics and weight terms need no hand-written derivative. The complex step it replaced
+ball's: dF/du = F_u - F_B G_B^-1 G_u) are exact to rounding, real arithmetic: Kb's six columns and a moved
+ball's look (:func:`ball_jacobian`) take each pair's contacts, angles and kinematics in closed form
+(high_speed.ball_state's terms) and combine the pairs in dual numbers; the settle's Newton steps take dG/dB in
+dual numbers of two derivatives; the all-dual six-column pass stays as :func:`dual_jacobian`, an oracle. The complex step it replaced
 (:func:`_derivative`, d y/dx = Im y(x + i h)/h, h = 1e-20 mm) stays as the tests' oracle. Which of several
 roots a ball takes is a property of q alone (:func:`canonical_settle`). Units: mm, N, N*mm, rad, rad/s.
 """
