@@ -144,10 +144,11 @@ def test_light_loads_at_70k_rpm_and_above_solve_and_the_reference_agrees(speed):
 
 
 def test_the_analytic_jacobian_is_the_complex_step_one_at_many_points():
-    """four_point.ball_jacobian (forward-mode dual numbers, real arithmetic) against the complex step it
-    replaced (four_point._derivative, kept as the oracle), every column and output, at ball centres and
-    inner groove centres around the settled ones of QJ 210 balls at several speeds and race controls:
-    within 1e-12 of each column's largest entry."""
+    """four_point.ball_jacobian (each pair's derivatives by hand, combined in dual numbers; real arithmetic)
+    against the all-dual-number Jacobian it replaced (four_point.dual_jacobian) and the complex step
+    (four_point._derivative), the oracles, every column and output, at ball centres and inner groove centres
+    around the settled ones of QJ 210 balls at several speeds and race controls: within 1e-12 of each column's
+    largest entry; and against central differences of the ball's evaluation (h = 1e-7 mm) within 1e-6."""
     from fastbearing.engine import four_point as fp
     from fastbearing.engine import high_speed as hs
 
@@ -170,8 +171,19 @@ def test_the_analytic_jacobian_is_the_complex_step_one_at_many_points():
                 x = np.array([br, bz, *u[2:]]) + rng.normal(size=6) * 2e-3
                 J = np.array(fp.ball_jacobian(tuple(x), p, w_i, w_o, eps))
                 C = np.array([fp._derivative(tuple(x), np.int64(i), p, w_i, w_o, eps) for i in range(6)])
+                D = np.array(fp.dual_jacobian(tuple(x), p, w_i, w_o, eps))
                 scale = np.abs(C).max(axis=1, keepdims=True)
                 assert np.all(np.abs(J - C) <= 1e-12 * scale), (control, k, eps, np.abs(J - C).max())
+                assert np.all(np.abs(J - D) <= 1e-12 * scale), (control, k, eps, np.abs(J - D).max())
+                h = 1e-7
+                for i in range(6):
+                    xp, xm = x.copy(), x.copy()
+                    xp[i] += h
+                    xm[i] -= h
+                    yp = np.array(fp.four_point_ball(*xp, p, w_i, w_o, eps)[0])
+                    ym = np.array(fp.four_point_ball(*xm, p, w_i, w_o, eps)[0])
+                    cd = (yp - ym) / (2.0 * h)
+                    assert np.all(np.abs(J[i] - cd) <= 1e-6 * scale[i]), (control, k, eps, i, np.abs(J[i] - cd).max())
                 checked += 1
     assert checked == 6 * N
 

@@ -12,9 +12,10 @@ omega_m^2), and pair a's races carry w_a M_g,a by its own race control. A ball w
 is exactly the angular contact ball of pair +.
 
 f is the model's; the derivatives (the ball's Newton Jacobian and Kb, condensed over B as the angular contact
-ball's: dF/du = F_u - F_B G_B^-1 G_u) come from one forward-mode pass in dual numbers (:func:`ball_jacobian`:
-each quantity carried with its six partial derivatives, real arithmetic), exact to rounding, so that the
-contact, kinematics and weight terms need no hand-written derivative. The complex step it replaced
+ball's: dF/du = F_u - F_B G_B^-1 G_u) are exact to rounding, real arithmetic: Kb's six columns and a moved
+ball's look (:func:`ball_jacobian`) take each pair's contacts, angles and kinematics in closed form
+(high_speed.ball_state's terms) and combine the pairs in dual numbers; the settle's Newton steps take dG/dB in
+dual numbers of two derivatives; the all-dual six-column pass stays as :func:`dual_jacobian`, an oracle. The complex step it replaced
 (:func:`_derivative`, d y/dx = Im y(x + i h)/h, h = 1e-20 mm) stays as the tests' oracle. Which of several
 roots a ball takes is a property of q alone (:func:`canonical_settle`). Units: mm, N, N*mm, rad, rad/s.
 """
@@ -27,8 +28,9 @@ from numba import njit, types
 from numba.extending import overload
 
 from ..config import CACHE, ERROR_MODEL, KERNEL_FASTMATH, REFCOUNT
-from .high_speed import (BALL_RTOL, LINEAR_REACH, _ball_constants, _inner_centre, start_position, write_contacts,
-                         write_state)
+from .deflection import deflection
+from .high_speed import (BALL_RTOL, LINEAR_REACH, _ball_constants, _inner_centre, kinematics, start_position,
+                         write_contacts, write_state)
 from .schema import (AXIAL_OFFSET, COS_NOMINAL, COS_PSI, DEFLECTION_LIMIT, DIAMETER, DIRECTION, GAMMA, INERTIA,
                      INNER_ARM, INNER_CONTROL, INNER_RADIUS, K_INNER, K_OUTER, LAMBDA_INNER, LAMBDA_OUTER,
                      MASS_RADIUS, N_WARM, OUTER_RADIUS, PITCH_RADIUS, SIN_PSI, WARM_BR, WARM_BZ,
@@ -432,11 +434,10 @@ def _dual_ball(br, bz, u1r, u1z, u2r, u2z, p, w_i, w_o, eps):
 
 
 @njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
-def ball_jacobian(x, p, w_i, w_o, eps):
-    """d(g, F_1, m_1, F_2, m_2)/dx (six columns of 8 values, column k along x_k) at x = (br, bz, u1r, u1z, u2r,
-    u2z): :func:`four_point_ball`'s first output in forward-mode dual numbers (each quantity carried with its
-    six partial derivatives, real arithmetic, exact to rounding as the complex step, :func:`_derivative`,
-    which the tests keep as its oracle; one pass gives all six columns)."""
+def dual_jacobian(x, p, w_i, w_o, eps):
+    """:func:`ball_jacobian` in forward-mode dual numbers throughout (each quantity carried with its six partial
+    derivatives, real arithmetic, exact to rounding as the complex step, :func:`_derivative`): the hand-written
+    Jacobian's oracle in the tests (the kernel does not call it)."""
     z6 = 0.0
     y0, y1, y2, y3, y4, y5, y6, y7 = _dual_ball((x[0], 1.0, z6, z6, z6, z6, z6), (x[1], z6, 1.0, z6, z6, z6, z6),
                                                 (x[2], z6, z6, 1.0, z6, z6, z6), (x[3], z6, z6, z6, 1.0, z6, z6),
@@ -447,10 +448,141 @@ def ball_jacobian(x, p, w_i, w_o, eps):
             _column(y0, y1, y2, y3, y4, y5, y6, y7, 5), _column(y0, y1, y2, y3, y4, y5, y6, y7, 6))
 
 
+# -- the Jacobian by hand (issue 47 item 6): each pair's contacts, angles and kinematics differentiated in closed
+# form (high_speed.ball_state's terms: dQ n/dB = Q' n n^T + (Q/L)(I - n n^T) per contact, the angles through the
+# projections (I - n n^T)/L), lifted into dual numbers only where the pairs combine (the load weights, omega_m,
+# F_c and the friction forces): about a third of the dual pass's arithmetic, no six-wide division per angle.
+
+def dlift(val, b_r, b_z, u_r, u_z, second, like):
+    """A pair's quantity as a dual number of ``like``'s width: its value and its gradients along the pair's own
+    B (b_r, b_z) and inner groove centre u (u_r, u_z), pair - (``second``) mirrored in B_z (its B_z is
+    2 r_o sin a0 - bz) and placed in u2's columns; at width 2 only the B columns."""
+
+
+@overload(dlift, inline="always")
+def _dlift(val, b_r, b_z, u_r, u_z, second, like):
+    if _width(like) == 2:
+        def impl2(val, b_r, b_z, u_r, u_z, second, like):
+            return (val, b_r, -b_z if second else b_z)
+        return impl2
+    if _width(like) == 6:
+        def impl6(val, b_r, b_z, u_r, u_z, second, like):
+            if second:
+                return (val, b_r, -b_z, 0.0, 0.0, u_r, u_z)
+            return (val, b_r, b_z, u_r, u_z, 0.0, 0.0)
+        return impl6
+
+
+@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def _hand_pair(ur, uz, br, bz, p, w_i, w_o, eps, second, like):
+    """One contact pair (:func:`_pair`'s arguments, floats) as dual numbers of ``like``'s width, their derivatives
+    in closed form: (P = Q_i + Q_o, omega_m, S, c_r, c_z (the contact part of g: Q_i n_i - Q_o n_o), T_r, T_z (the
+    friction's direction li t_i - lo t_o, t = (sin a, -cos a)), Q_i n_i, t_i, Q_i > 0)."""
+    Lo = math.sqrt(br * br + bz * bz)
+    inv_o = 1.0 / Lo
+    co = br * inv_o
+    so = bz * inv_o
+    vr = ur - br
+    vz = uz - bz
+    Li = math.sqrt(vr * vr + vz * vz)
+    inv_i = 1.0 / Li
+    ci = vr * inv_i
+    si = vz * inv_i
+    d_o, slope_o = deflection(Lo - p[OUTER_RADIUS], eps)
+    d_i, slope_i = deflection(Li - p[INNER_RADIUS], eps)
+    sq_o = math.sqrt(d_o)
+    sq_i = math.sqrt(d_i)
+    Qo = p[K_OUTER] * d_o * sq_o
+    Qi = p[K_INNER] * d_i * sq_i
+    dQo = 1.5 * p[K_OUTER] * sq_o * slope_o
+    dQi = 1.5 * p[K_INNER] * sq_i * slope_i
+    wm, m_ci, m_si, m_co, m_so, S, s_ci, s_si, s_co, s_so = kinematics(ci, si, co, so, w_i, w_o, p[GAMMA],
+                                                                      p[INNER_CONTROL] != 0.0)
+    # the projections (I - n n^T)/L: d n/dB of the outer normal, d n/du (= -d n/dB) of the inner one
+    por, poc, poz = so * so * inv_o, -co * so * inv_o, co * co * inv_o
+    pir, pic, piz = si * si * inv_i, -ci * si * inv_i, ci * ci * inv_i
+    wm_ur = m_ci * pir + m_si * pic
+    wm_uz = m_ci * pic + m_si * piz
+    S_ur = s_ci * pir + s_si * pic
+    S_uz = s_ci * pic + s_si * piz
+    # the contact Hessians H = Q' n n^T + (Q/L)(I - n n^T)
+    gi = Qi * inv_i
+    go = Qo * inv_o
+    hi_rr = dQi * ci * ci + gi * si * si
+    hi_rz = (dQi - gi) * ci * si
+    hi_zz = dQi * si * si + gi * ci * ci
+    ho_rr = dQo * co * co + go * so * so
+    ho_rz = (dQo - go) * co * so
+    ho_zz = dQo * so * so + go * co * co
+    li = p[LAMBDA_INNER]
+    lo = p[LAMBDA_OUTER]
+    P = dlift(Qi + Qo, dQo * co - dQi * ci, dQo * so - dQi * si, dQi * ci, dQi * si, second, like)
+    wmd = dlift(wm, m_co * por + m_so * poc - wm_ur, m_co * poc + m_so * poz - wm_uz, wm_ur, wm_uz, second, like)
+    Sd = dlift(S, s_co * por + s_so * poc - S_ur, s_co * poc + s_so * poz - S_uz, S_ur, S_uz, second, like)
+    c_r = dlift(Qi * ci - Qo * co, -hi_rr - ho_rr, -hi_rz - ho_rz, hi_rr, hi_rz, second, like)
+    c_z = dlift(Qi * si - Qo * so, -hi_rz - ho_rz, -hi_zz - ho_zz, hi_rz, hi_zz, second, like)
+    T_r = dlift(li * si - lo * so, -li * pic - lo * poc, -li * piz - lo * poz, li * pic, li * piz, second, like)
+    T_z = dlift(lo * co - li * ci, li * pir + lo * por, li * pic + lo * poc, -li * pir, -li * pic, second, like)
+    F_r = dlift(Qi * ci, -hi_rr, -hi_rz, hi_rr, hi_rz, second, like)
+    F_z = dlift(Qi * si, -hi_rz, -hi_zz, hi_rz, hi_zz, second, like)
+    t_r = dlift(si, -pic, -piz, pic, piz, second, like)
+    t_z = dlift(-ci, pir, pic, -pir, -pic, second, like)
+    return P, wmd, Sd, c_r, c_z, T_r, T_z, F_r, F_z, t_r, t_z, Qi > 0.0
+
+
+@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def _hand_ball(x, p, w_i, w_o, eps, like):
+    """:func:`_dual_ball` at x = (br, bz, u1r, u1z, u2r, u2z) (floats), its derivatives from :func:`_hand_pair`,
+    as dual numbers of ``like``'s width (6: all of x; 2: B alone)."""
+    s0 = math.sqrt(1.0 - p[COS_NOMINAL] * p[COS_NOMINAL])
+    P1, wm1, S1, c1r, c1z, T1r, T1z, F1r, F1z, t1r, t1z, on1 = _hand_pair(x[2], x[3], x[0], x[1], p, w_i, w_o, eps,
+                                                                          False, like)
+    P2, wm2, S2, c2r, c2z, T2r, T2z, F2r, F2z, t2r, t2z, on2 = _hand_pair(x[4], x[5], x[0],
+                                                                          2.0 * p[OUTER_RADIUS] * s0 - x[1], p,
+                                                                          w_i, w_o, eps, True, like)
+    total = dadd(P1, P2)
+    w1 = ddiv(P1, total) if total[0] > 0.0 else dconst(0.5, like)
+    w2 = dsub(dconst(1.0, like), w1)
+    wm = dadd(dmul(w1, wm1), dmul(w2, wm2))
+    Fc = dscale(p[MASS_RADIUS], dmul(wm, wm))
+    jd = p[INERTIA] * (w_o - w_i) / p[GAMMA] / p[DIAMETER]
+    f1 = dscale(jd, dmul(w1, S1))
+    f2 = dscale(jd, dmul(w2, S2))
+    li = p[LAMBDA_INNER]
+    on1 = on1 or eps != 0.0
+    on2 = on2 or eps != 0.0
+    zero = dconst(0.0, like)
+    arm = li * p[INNER_ARM]
+    y0 = dadd(dadd(dadd(c1r, dmul(f1, T1r)), dadd(c2r, dmul(f2, T2r))), Fc)
+    y1 = dsub(dadd(c1z, dmul(f1, T1z)), dadd(c2z, dmul(f2, T2z)))
+    y2 = dadd(F1r, dscale(li, dmul(f1, t1r))) if on1 else zero
+    y3 = dadd(F1z, dscale(li, dmul(f1, t1z))) if on1 else zero
+    y4 = dscale(arm, f1) if on1 else zero
+    y5 = dadd(F2r, dscale(li, dmul(f2, t2r))) if on2 else zero
+    y6 = dadd(F2z, dscale(li, dmul(f2, t2z))) if on2 else zero
+    y7 = dscale(arm, f2) if on2 else zero
+    return y0, y1, y2, y3, y4, y5, y6, y7
+
+
+@njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
+def ball_jacobian(x, p, w_i, w_o, eps):
+    """d(g, F_1, m_1, F_2, m_2)/dx (six columns of 8 values, column k along x_k) at x = (br, bz, u1r, u1z, u2r,
+    u2z) (mm; g, F in N, m in N*mm): each pair's derivatives in closed form (:func:`_hand_pair`), combined in
+    dual numbers (:func:`_hand_ball`); real arithmetic, exact to rounding (the tests hold it to the all-dual
+    :func:`dual_jacobian` and the complex step, :func:`_derivative`)."""
+    y0, y1, y2, y3, y4, y5, y6, y7 = _hand_ball(x, p, w_i, w_o, eps, (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0))
+    return (_column(y0, y1, y2, y3, y4, y5, y6, y7, 1), _column(y0, y1, y2, y3, y4, y5, y6, y7, 2),
+            _column(y0, y1, y2, y3, y4, y5, y6, y7, 3), _column(y0, y1, y2, y3, y4, y5, y6, y7, 4),
+            _column(y0, y1, y2, y3, y4, y5, y6, y7, 5), _column(y0, y1, y2, y3, y4, y5, y6, y7, 6))
+
+
 @njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
 def _newton_jacobian(br, bz, u, p, w_i, w_o, eps):
     """dg/dB alone, ((dg_r, dg_z)/dB_r, (dg_r, dg_z)/dB_z), in dual numbers of two derivatives (the settle's
-    iterations; the ring's outputs, unused, fall away when this is compiled inline)."""
+    iterations; the ring's outputs, unused, fall away when this is compiled inline). Left in dual numbers: the
+    hand-written pass (:func:`_hand_ball`) costs the same here (0.086 us a call, the cost being the square
+    roots and divisions both share) and, inlined, rounds one ulp differently in another caller, so that a
+    settle called directly and one inside :func:`canonical_settle` would no longer agree bit for bit."""
     y0, y1, _, _, _, _, _, _ = _dual_ball((br, 1.0, 0.0), (bz, 0.0, 1.0), (u[2], 0.0, 0.0), (u[3], 0.0, 0.0),
                                           (u[4], 0.0, 0.0), (u[5], 0.0, 0.0), p, w_i, w_o, eps)
     return (y0[1], y1[1]), (y0[2], y1[2])
