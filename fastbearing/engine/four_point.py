@@ -29,8 +29,8 @@ from numba.extending import overload
 
 from ..config import CACHE, ERROR_MODEL, KERNEL_FASTMATH, REFCOUNT
 from .deflection import deflection
-from .high_speed import (BALL_RTOL, LINEAR_REACH, _ball_constants, _inner_centre, kinematics, start_position,
-                         write_contacts, write_state)
+from .high_speed import (BALL_RTOL, LINEAR_REACH, _ball_constants, _inner_centre, contact_hessian, kinematics,
+                         start_position, write_contacts, write_state)
 from .schema import (AXIAL_OFFSET, COS_NOMINAL, COS_PSI, DEFLECTION_LIMIT, DIAMETER, DIRECTION, GAMMA, INERTIA,
                      INNER_ARM, INNER_CONTROL, INNER_RADIUS, K_INNER, K_OUTER, LAMBDA_INNER, LAMBDA_OUTER,
                      MASS_RADIUS, N_WARM, OUTER_RADIUS, PITCH_RADIUS, SIN_PSI, WARM_BR, WARM_BZ,
@@ -397,21 +397,28 @@ def _column(y0, y1, y2, y3, y4, y5, y6, y7, i):
 
 
 @njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def _pairs_shared(P1, P2, wm1, wm2, S1, S2, p, w_i, w_o, like):
+    """What the ball's two contact pairs share, in dual numbers of ``like``'s width, from each pair's contact
+    load sum P (N), orbital speed wm (rad/s) and spin factor S: each pair weighted by its load (w1 = P1 / (P1 +
+    P2), half each when both are unloaded), the ball's omega_m = w1 wm1 + w2 wm2, its centrifugal force F_c (N)
+    and each pair's gyroscopic friction factor f = J (w_o - w_i) / (gamma' D) w S (N). Returns (F_c, f1, f2)."""
+    total = dadd(P1, P2)
+    w1 = ddiv(P1, total) if total[0] > 0.0 else dconst(0.5, like)
+    w2 = dsub(dconst(1.0, like), w1)
+    wm = dadd(dmul(w1, wm1), dmul(w2, wm2))
+    Fc = dscale(p[MASS_RADIUS], dmul(wm, wm))
+    jd = p[INERTIA] * (w_o - w_i) / p[GAMMA] / p[DIAMETER]
+    return Fc, dscale(jd, dmul(w1, S1)), dscale(jd, dmul(w2, S2))
+
+
+@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
 def _dual_ball(br, bz, u1r, u1z, u2r, u2z, p, w_i, w_o, eps):
     """:func:`four_point_ball`'s first output, (g_r, g_z, F_1, m_1, F_2, m_2), in dual numbers of any width."""
     s0 = math.sqrt(1.0 - p[COS_NOMINAL] * p[COS_NOMINAL])
     Qi1, Qo1, ci1, si1, co1, so1, wm1, S1 = _dual_pair(u1r, u1z, br, bz, p, w_i, w_o, eps)
     bz2 = dsub(dconst(2.0 * p[OUTER_RADIUS] * s0, br), bz)  # B from O_-, in pair -'s frame
     Qi2, Qo2, ci2, si2, co2, so2, wm2, S2 = _dual_pair(u2r, u2z, br, bz2, p, w_i, w_o, eps)
-    P1 = dadd(Qi1, Qo1)
-    total = dadd(P1, dadd(Qi2, Qo2))
-    w1 = ddiv(P1, total) if total[0] > 0.0 else dconst(0.5, br)
-    w2 = dsub(dconst(1.0, br), w1)
-    wm = dadd(dmul(w1, wm1), dmul(w2, wm2))
-    Fc = dscale(p[MASS_RADIUS], dmul(wm, wm))
-    jd = p[INERTIA] * (w_o - w_i) / p[GAMMA] / p[DIAMETER]
-    f1 = dscale(jd, dmul(w1, S1))
-    f2 = dscale(jd, dmul(w2, S2))
+    Fc, f1, f2 = _pairs_shared(dadd(Qi1, Qo1), dadd(Qi2, Qo2), wm1, wm2, S1, S2, p, w_i, w_o, br)
     li = p[LAMBDA_INNER]
     lo = p[LAMBDA_OUTER]
     g1r = dadd(dsub(dmul(Qi1, ci1), dmul(Qo1, co1)), dmul(f1, dsub(dscale(li, si1), dscale(lo, so1))))
@@ -508,12 +515,8 @@ def _hand_pair(ur, uz, br, bz, p, w_i, w_o, eps, second, like):
     # the contact Hessians H = Q' n n^T + (Q/L)(I - n n^T)
     gi = Qi * inv_i
     go = Qo * inv_o
-    hi_rr = dQi * ci * ci + gi * si * si
-    hi_rz = (dQi - gi) * ci * si
-    hi_zz = dQi * si * si + gi * ci * ci
-    ho_rr = dQo * co * co + go * so * so
-    ho_rz = (dQo - go) * co * so
-    ho_zz = dQo * so * so + go * co * co
+    hi_rr, hi_rz, hi_zz = contact_hessian(dQi, gi, ci, si)
+    ho_rr, ho_rz, ho_zz = contact_hessian(dQo, go, co, so)
     li = p[LAMBDA_INNER]
     lo = p[LAMBDA_OUTER]
     P = dlift(Qi + Qo, dQo * co - dQi * ci, dQo * so - dQi * si, dQi * ci, dQi * si, second, like)
@@ -540,14 +543,7 @@ def _hand_ball(x, p, w_i, w_o, eps, like):
     P2, wm2, S2, c2r, c2z, T2r, T2z, F2r, F2z, t2r, t2z, on2 = _hand_pair(x[4], x[5], x[0],
                                                                           2.0 * p[OUTER_RADIUS] * s0 - x[1], p,
                                                                           w_i, w_o, eps, True, like)
-    total = dadd(P1, P2)
-    w1 = ddiv(P1, total) if total[0] > 0.0 else dconst(0.5, like)
-    w2 = dsub(dconst(1.0, like), w1)
-    wm = dadd(dmul(w1, wm1), dmul(w2, wm2))
-    Fc = dscale(p[MASS_RADIUS], dmul(wm, wm))
-    jd = p[INERTIA] * (w_o - w_i) / p[GAMMA] / p[DIAMETER]
-    f1 = dscale(jd, dmul(w1, S1))
-    f2 = dscale(jd, dmul(w2, S2))
+    Fc, f1, f2 = _pairs_shared(P1, P2, wm1, wm2, S1, S2, p, w_i, w_o, like)
     li = p[LAMBDA_INNER]
     on1 = on1 or eps != 0.0
     on2 = on2 or eps != 0.0

@@ -210,6 +210,13 @@ def kinematics(ci, si, co, so, w_i, w_o, gamma, inner_control):
 
 
 @njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
+def contact_hessian(dQ, g, c, s):
+    """One contact's force Hessian H = Q' n n^T + (Q/L)(I - n n^T) (N/mm; entries rr, rz, zz) from Q' = dQ/ddelta
+    (N/mm), g = Q/L (the load over the centres' distance, N/mm) and its normal n = (c, s)."""
+    return dQ * c * c + g * s * s, (dQ - g) * c * s, dQ * s * s + g * c * c
+
+
+@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
 def ball_state(ur, uz, br, bz, p, w_i, w_o, smoothing_eps):
     """Everything about one ball at centre B = (br, bz) (mm from O, mirrored frame) for the inner groove
     centre at u = (ur, uz): the residual g, its Jacobian G_B, G_u = dg/du, the ring force F and moment m
@@ -252,12 +259,8 @@ def ball_state(ur, uz, br, bz, p, w_i, w_o, smoothing_eps):
     # contact Hessians H = Q' n n^T + (Q/L) P
     gi = Qi / Li
     go = Qo / Lo
-    hi_rr = dQi * ci * ci + gi * si * si
-    hi_rz = (dQi - gi) * ci * si
-    hi_zz = dQi * si * si + gi * ci * ci
-    ho_rr = dQo * co * co + go * so * so
-    ho_rz = (dQo - go) * co * so
-    ho_zz = dQo * so * so + go * co * co
+    hi_rr, hi_rz, hi_zz = contact_hessian(dQi, gi, ci, si)
+    ho_rr, ho_rz, ho_zz = contact_hessian(dQo, go, co, so)
     # friction of the gyroscopic moment: (M_g/D) T, T = li t_i - lo t_o, t = (sin a, -cos a);
     # dt_i/du = R P_i/L_i, dt_i/dB = -R P_i/L_i, dt_o/dB = R P_o/L_o with R (x, y) = (y, -x)
     Tr = li * si - lo * so
