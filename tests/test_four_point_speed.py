@@ -75,7 +75,7 @@ def test_a_sweep_at_10k_to_30k_rpm_solve_then_stiffness_and_ball_contacts_agree(
 
 def _evaluate(balls, q, linearise=False):
     f, K = np.empty(5), np.empty((5, 5))
-    balls.warm[WARM_LINEARISE, 0] = 1.0 if linearise else 0.0
+    balls.warm[WARM_LINEARISE * balls.balls.shape[1]] = 1.0 if linearise else 0.0
     warnings = ball_loop(np.asarray(q, float), balls, f, K, None, None)[2]
     return f, K, warnings
 

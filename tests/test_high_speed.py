@@ -92,12 +92,13 @@ def test_every_ball_is_in_equilibrium_at_the_solution():
 
 
 def test_a_scratch_without_room_for_the_summaries_is_reported_not_used():
-    """The loop keeps its per-chunk summaries in the warm scratch's tail (high_speed.warm_rows): a scratch of
-    the warm-start rows alone gets NaN and the 'not settled' bit, never a write past its end."""
+    """The loop keeps its per-chunk summaries in the warm scratch's tail (high_speed.warm_size): a scratch of
+    the warm starts alone (or of another ball set) gets NaN and the 'not settled' bit, never a write past its
+    end."""
     n = SPINDLE.n_balls
     table, speed_table = SPINDLE.ball_table(), SPINDLE.speed_table
     q = np.array([0.002, 0.0, 0.02, 0.0, 0.0])
-    small = np.zeros((schema.N_WARM + 1, n))
+    small = np.zeros(schema.N_WARM * n + 1)
     f, K = np.empty(5), np.empty((5, 5))
     total, loaded, flags = hs.spinning_balls(q, table, speed_table, 1000.0, 0.0, f, K, None, None, None, small)
     assert flags & 4 and loaded == 0 and np.isnan(total) and np.isnan(f).all() and np.isnan(K).all()
@@ -152,7 +153,7 @@ def test_inside_a_solve_a_ball_is_linearised_to_second_order_and_flagged_until_s
                           hs.new_warm(SPINDLE.n_balls))
         scale = np.abs(f_exact).max()
         lin = warm.copy()
-        lin[schema.WARM_LINEARISE, 0] = 1.0
+        lin[schema.WARM_LINEARISE * SPINDLE.n_balls] = 1.0
         f, K = np.empty(5), np.empty((5, 5))
         flags = hs.spinning_balls(q, table, speed_table, omega, 0.0, f, K, None, None, None, lin)[2]
         errors.append(np.abs(f - f_exact).max() / scale)
@@ -172,7 +173,7 @@ def test_inside_a_solve_a_ball_is_linearised_to_second_order_and_flagged_until_s
                                      warm.copy())[2] & 8
         assert np.abs(f2 - f_exact).max() <= 1e-12 * scale
         warm = lin
-        warm[schema.WARM_LINEARISE, 0] = 0.0
+        warm[schema.WARM_LINEARISE * SPINDLE.n_balls] = 0.0
         q_last = q
     assert errors[1] < 1e-3 * errors[0] and errors[2] <= 1e-12  # a better start: far smaller error
 

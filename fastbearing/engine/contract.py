@@ -16,7 +16,7 @@ from collections import namedtuple
 
 import numpy as np
 
-from .high_speed import warm_rows
+from .high_speed import warm_size
 from .schema import LIFE_SLICES
 
 #: A job's read-only tables. ``balls`` the element set (schema.ElementSet: the tables of every element kind,
@@ -61,7 +61,7 @@ Positions = namedtuple("Positions", "tables slices speed_tables")
 #: One thread's work space: the solver's ``work`` (WORK_ROWS, 5) and the map predictor's ``predictor``
 #: (PREDICTOR_ROWS, 5); the per-element record ``ball_load`` (N) and ``contact_angle`` (rad), each
 #: ScratchShape.record long; ``sums`` (life_rows, 2) the life sums; ``spin`` the balls' warm starts
-#: (warm_rows, n_balls; None quasi-static); ``outer_load``, ``outer_count`` (rows,) the outer contacts' row
+#: (high_speed.warm_size cells, flat; None quasi-static); ``outer_load``, ``outer_count`` (rows,) the outer contacts' row
 #: summary at speed; ``table`` and ``slices`` the thread's own copies of the ball and slice tables, where each
 #: case's operating values are written (None without CaseBlock.operating; ``slices`` None without roller rows).
 Scratch = namedtuple("Scratch", "work predictor ball_load contact_angle sums spin outer_load outer_count table "
@@ -73,8 +73,8 @@ Scratch = namedtuple("Scratch", "work predictor ball_load contact_angle sums spi
 ABSENT = np.zeros(1, np.bool_)
 
 #: The sizes of a Scratch (:func:`scratch_shape`): the record's length, the life sums' rows, the bearing's
-#: rows, and the warm starts' rows and columns ((1, 1) without a speed table).
-ScratchShape = namedtuple("ScratchShape", "record life_rows rows warm_rows n_balls")
+#: rows, the warm starts' cells (1 without a speed table) and the balls' count.
+ScratchShape = namedtuple("ScratchShape", "record life_rows rows warm_size n_balls")
 
 
 def scratch_shape(elements, cases) -> ScratchShape:
@@ -91,5 +91,5 @@ def scratch_shape(elements, cases) -> ScratchShape:
     spinning = cases.speeds.shape[0] > 0
     record = n_elements + (n_slices if roller_life else 0) + (n_elements if spinning else 0)
     n_balls = max(balls.balls.shape[1], 1)
-    warm = (warm_rows(n_balls), n_balls) if balls.speed_table is not None else (1, 1)
-    return ScratchShape(record, max(life.shape[0], 1), cases.results.max_load.shape[-1], *warm)
+    warm = warm_size(n_balls) if balls.speed_table is not None else 1
+    return ScratchShape(record, max(life.shape[0], 1), cases.results.max_load.shape[-1], warm, n_balls)

@@ -30,7 +30,7 @@ from numba.extending import overload
 from ..config import CACHE, ERROR_MODEL, KERNEL_FASTMATH, REFCOUNT
 from .deflection import deflection
 from .high_speed import (BALL_RTOL, LINEAR_REACH, _ball_constants, _inner_centre, contact_hessian, kinematics,
-                         start_position, write_contacts, write_state)
+                         start_position, warm_cell, write_contacts, write_state)
 from .schema import (AXIAL_OFFSET, COS_NOMINAL, COS_PSI, DEFLECTION_LIMIT, DIAMETER, DIRECTION, GAMMA, INERTIA,
                      INNER_ARM, INNER_CONTROL, INNER_RADIUS, K_INNER, K_OUTER, LAMBDA_INNER, LAMBDA_OUTER,
                      MASS_RADIUS, N_WARM, OUTER_RADIUS, PITCH_RADIUS, SIN_PSI, WARM_BR, WARM_BZ,
@@ -769,8 +769,8 @@ def four_point_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact
     total = 0.0
     n_loaded = 0
     flags = 0
-    scratch = warm.reshape(warm.size)[N_WARM * n:]  # 6 x 4 condensed stiffness, after the ball pass's use
-    linearise = n > 0 and states is None and warm[WARM_LINEARISE, 0] != 0.0
+    scratch = warm[N_WARM * n:]  # 6 x 4 condensed stiffness, after the ball pass's use
+    linearise = n > 0 and states is None and warm[warm_cell(WARM_LINEARISE, n, 0)] != 0.0
     for b in range(pairs.shape[1]):
         j = int(pairs[0, b])
         m_col = int(pairs[1, b])
@@ -785,18 +785,18 @@ def four_point_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact
         settled = False
         have_jacobian = False
         J = _NO_JACOBIAN
-        if (linearise and warm[WARM_VALID, j] != 0.0
-                and not (warm[WARM_UR, j] == u1r and warm[WARM_UZ, j] == u1z
-                         and warm[WARM_UR, m_col] == u2r and warm[WARM_UZ, m_col] == u2z)):
+        if (linearise and warm[warm_cell(WARM_VALID, n, j)] != 0.0
+                and not (warm[warm_cell(WARM_UR, n, j)] == u1r and warm[warm_cell(WARM_UZ, n, j)] == u1z
+                         and warm[warm_cell(WARM_UR, n, m_col)] == u2r and warm[warm_cell(WARM_UZ, n, m_col)] == u2z)):
             # the first-order prediction B - X (u - u_last), X = G_B^-1 G_u (2 x 4) of the last settle
-            du1r = u1r - warm[WARM_UR, j]
-            du1z = u1z - warm[WARM_UZ, j]
-            du2r = u2r - warm[WARM_UR, m_col]
-            du2z = u2z - warm[WARM_UZ, m_col]
-            br = warm[WARM_BR, j] - (warm[WARM_X00, j] * du1r + warm[WARM_X01, j] * du1z
-                                     + warm[WARM_X00, m_col] * du2r + warm[WARM_X01, m_col] * du2z)
-            bz = warm[WARM_BZ, j] - (warm[WARM_X10, j] * du1r + warm[WARM_X11, j] * du1z
-                                     + warm[WARM_X10, m_col] * du2r + warm[WARM_X11, m_col] * du2z)
+            du1r = u1r - warm[warm_cell(WARM_UR, n, j)]
+            du1z = u1z - warm[warm_cell(WARM_UZ, n, j)]
+            du2r = u2r - warm[warm_cell(WARM_UR, n, m_col)]
+            du2z = u2z - warm[warm_cell(WARM_UZ, n, m_col)]
+            br = warm[warm_cell(WARM_BR, n, j)] - (warm[warm_cell(WARM_X00, n, j)] * du1r + warm[warm_cell(WARM_X01, n, j)] * du1z
+                                     + warm[warm_cell(WARM_X00, n, m_col)] * du2r + warm[warm_cell(WARM_X01, n, m_col)] * du2z)
+            bz = warm[warm_cell(WARM_BZ, n, j)] - (warm[warm_cell(WARM_X10, n, j)] * du1r + warm[warm_cell(WARM_X11, n, j)] * du1z
+                                     + warm[warm_cell(WARM_X10, n, m_col)] * du2r + warm[warm_cell(WARM_X11, n, m_col)] * du2z)
             # one look at the prediction (:func:`linear_look`): settled there, or a Newton step short against
             # every contact's deflection, taken to first order (the ball's forces and centre), or a settle
             br, bz, settled, stepped, y, st, J = linear_look(u, p, w_i, w_o, eps, br, bz)
@@ -807,7 +807,7 @@ def four_point_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact
                 iterations = 0
             if settled:
                 flags |= 8
-        elif linearise and warm[WARM_VALID, j] == 0.0:
+        elif linearise and warm[warm_cell(WARM_VALID, n, j)] == 0.0:
             # a ball's first evaluation inside a solve (no warm start; a ball that has not moved takes its
             # canonical root, so that the solver's last evaluation at its answer is the model's): Newton from the cold guess to its first
             # short step, taken to first order (:func:`linear_look`), flagged 8 as a warm one; where that does
@@ -822,24 +822,24 @@ def four_point_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact
         if not settled:
             have_jacobian = False
             br, bz, iterations, settled, y, st = canonical_settle(u, p, w_i, w_o, eps)
-        warm[WARM_BR, j] = br
-        warm[WARM_BZ, j] = bz
-        warm[WARM_UR, j] = u1r
-        warm[WARM_UZ, j] = u1z
-        warm[WARM_UR, m_col] = u2r
-        warm[WARM_UZ, m_col] = u2z
+        warm[warm_cell(WARM_BR, n, j)] = br
+        warm[warm_cell(WARM_BZ, n, j)] = bz
+        warm[warm_cell(WARM_UR, n, j)] = u1r
+        warm[warm_cell(WARM_UZ, n, j)] = u1z
+        warm[warm_cell(WARM_UR, n, m_col)] = u2r
+        warm[warm_cell(WARM_UZ, n, m_col)] = u2z
         x = (br, bz, u1r, u1z, u2r, u2z)
         if not have_jacobian and (K is not None or linearise):
             J = ball_jacobian(x, p, w_i, w_o, eps)
         det = J[0][0] * J[1][1] - J[1][0] * J[0][1]
         for col, k in ((j, 2), (m_col, 4)):  # X = G_B^-1 G_u: its u1 columns at j, its u2 columns at m
             gr0, gz0, gr1, gz1 = J[k][0], J[k][1], J[k + 1][0], J[k + 1][1]
-            warm[WARM_X00, col] = (J[1][1] * gr0 - J[1][0] * gz0) / det
-            warm[WARM_X10, col] = (J[0][0] * gz0 - J[0][1] * gr0) / det
-            warm[WARM_X01, col] = (J[1][1] * gr1 - J[1][0] * gz1) / det
-            warm[WARM_X11, col] = (J[0][0] * gz1 - J[0][1] * gr1) / det
+            warm[warm_cell(WARM_X00, n, col)] = (J[1][1] * gr0 - J[1][0] * gz0) / det
+            warm[warm_cell(WARM_X10, n, col)] = (J[0][0] * gz0 - J[0][1] * gr0) / det
+            warm[warm_cell(WARM_X01, n, col)] = (J[1][1] * gr1 - J[1][0] * gz1) / det
+            warm[warm_cell(WARM_X11, n, col)] = (J[0][0] * gz1 - J[0][1] * gr1) / det
         good = settled and (math.isfinite(det) and det != 0.0 or not linearise)
-        warm[WARM_VALID, j] = 1.0 if good else 0.0
+        warm[warm_cell(WARM_VALID, n, j)] = 1.0 if good else 0.0
         if not settled:
             flags |= 4
         Qi1, Qo1, Qi2, Qo2, ci1, si1, co1, so1, ci2, si2, co2, so2, Fc, Mg, wm, di1, do1, di2, do2 = st

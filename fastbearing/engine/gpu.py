@@ -10,8 +10,8 @@ kernels (engine/cuda_kernels.py: module-level, cached on disk) call the CPU's pe
 tangent/curved predictors along a map line, the high-speed balls, roller rows and the life variables are the
 CPU's code. The drivers here take and pass the same records as the CPU's (engine/contract.py); a
 thread's scratch is sized by the same contract.scratch_shape: the solver's and the predictor's as
-``cuda.local.array``, the per-element record, life sums and the outer contacts' summary element-major (thread t's
-are column t of device arrays) and the balls' warm starts as one block per thread (:data:`ThreadRows`). A map's
+``cuda.local.array``, the per-element record, life sums, the outer contacts' summary and the balls' warm starts
+element-major (thread t's are column t of device arrays, :data:`ThreadRows`). A map's
 continuation runs are cut into GPU segments of at most :data:`SEGMENT_CASES` cases, one per thread, in blocks
 sized for the device (:func:`device_segments`, :func:`device_chunk`; docs/gpu.md).
 
@@ -42,7 +42,7 @@ import hashlib
 from collections import namedtuple
 
 from .contract import ABSENT, CaseBlock, Elements, Positions, ScratchShape, scratch_shape
-from .high_speed import warm_rows
+from .high_speed import warm_size
 from .schema import ElementSet
 from .device import CudaUnavailable, describe, import_cuda, require_cuda, simulated  # noqa: F401 (re-exported)
 
@@ -96,10 +96,8 @@ def kernel(kind: str):
 #: which are each thread's local arrays): sized from contract.scratch_shape. Element-major, the thread last, so that
 #: neighbouring threads touching the same element touch neighbouring addresses (the per-element record, written
 #: at every kernel evaluation, the life sums, the outer contacts' summary): ``ball_load``, ``contact_angle``
-#: (record, T), ``sums`` (life_rows, 2, T), ``outer_load``, ``outer_count`` (rows, T); thread t's are ``[..., t]``.
-#: The balls' warm starts ``spin`` (T, warm_rows, n_balls) stay thread-major: high_speed.py and four_point.py take
-#: a thread's as one contiguous block (``warm.reshape(warm.size)``, the flat scratch after the warm starts), which a
-#: strided view is not (docs/gpu.md).
+#: (record, T), ``sums`` (life_rows, 2, T), ``outer_load``, ``outer_count`` (rows, T), the balls' warm starts
+#: ``spin`` (high_speed.warm_size, T: each thread's flat warm scratch a column); thread t's are ``[..., t]``.
 #: ``table`` (T, N_BALL_COLUMNS, n_balls) and ``slices`` (T, N_SLICE_COLUMNS, n_slices): each thread's own copies
 #: of the element tables where a block's cases carry their own operating values (CaseBlock.operating; the kernel
 #: fills them from the shared tables, then sweep.with_operating writes each case's values), contract.ABSENT else.
@@ -116,7 +114,7 @@ def own_table_bytes(balls, cases) -> int:
 
 def thread_bytes(shape: ScratchShape, with_speed: bool, own: int = 0) -> int:
     """Device memory of one thread's ThreadRows (bytes) for a Scratch of ``shape`` (``own``: its own tables')."""
-    warm = shape.warm_rows * shape.n_balls if with_speed else 0
+    warm = shape.warm_size if with_speed else 0
     return 8 * (2 * shape.record + 2 * shape.life_rows + warm + 2 * shape.rows) + own
 
 
@@ -128,7 +126,7 @@ def thread_rows(mem, shape: ScratchShape, n_threads: int, counts_dtype, with_spe
     starts zeroed: every ball cold, new_warm. ``own``: None, or the element set whose ball and slice tables each
     thread copies (a block whose cases carry their own operating values)."""
     T = n_threads
-    spin = np.zeros((T, shape.warm_rows, shape.n_balls) if with_speed else (T, 1, 1))
+    spin = np.zeros((shape.warm_size if with_speed else 1, T))
     role = f"rows{part}."
     table = slices = mem.table(ABSENT)
     if own is not None:
@@ -281,7 +279,7 @@ def _part(a) -> np.ndarray:
 
 def device_elements(mem, balls: ElementSet) -> ElementSet:
     """The element set as a kernel argument: every part a table in ``mem`` (on the device once per job),
-    contract.ABSENT for a part it lacks and for the warm starts (each thread's are its row of the launch's warm
+    contract.ABSENT for a part it lacks and for the warm starts (each thread's are its column of the launch's warm
     starts); the kernels make those None again (cuda_kernels.element_set)."""
     return ElementSet(mem.table(_part(balls.balls)), mem.table(_part(balls.exponents)), float(balls.smoothing),
                       mem.table(_part(balls.slices)), mem.table(_part(balls.speed_table)), float(balls.omega),
@@ -295,12 +293,13 @@ def device_tables(mem, elements) -> Elements:
 
 
 def warm_starts(balls: ElementSet, n_threads: int) -> np.ndarray:
-    """Every thread's warm starts for the balls at speed, zeroed (every ball cold, high_speed.new_warm); a
-    (n_threads, 1, 1) stand-in for a quasi-static bearing (indexed, never read)."""
+    """Every thread's warm starts for the balls at speed, zeroed (every ball cold, high_speed.new_warm), thread
+    t's flat warm scratch column t (element-major); a (1, n_threads) stand-in for a quasi-static bearing
+    (indexed, never read)."""
     if balls.speed_table is None:
-        return np.zeros((n_threads, 1, 1))
+        return np.zeros((1, n_threads))
     n_balls = max(balls.balls.shape[1], 1)
-    return np.zeros((n_threads, warm_rows(n_balls), n_balls))
+    return np.zeros((warm_size(n_balls), n_threads))
 
 
 def _inputs(mem, cases: CaseBlock, results):
@@ -342,7 +341,7 @@ def solve_plan(balls, cases) -> LaunchPlan:
     with its balls' warm starts in device memory."""
     spinning = balls.speed_table is not None
     n_balls = max(balls.balls.shape[1], 1)
-    per_thread = warm_rows(n_balls) * n_balls * 8 if spinning else 0
+    per_thread = warm_size(n_balls) * 8 if spinning else 0
     blocks, tpb = _launch(cases.inputs.shape[0], per_thread)
     return LaunchPlan(blocks, tpb, nbytes(balls) + nbytes(cases) + blocks * tpb * per_thread)
 

@@ -78,11 +78,29 @@ WARM_ITERATIONS = 12
 #: 1e-9 rpm). So the answer is continuous as the speed goes to 0.
 STILL_DEFLECTION = 1e-12
 
+#: Cells after a ball set's warm starts: one chunk's summaries (and a four-point ball's 6 x 4 condensed stiffness).
+WARM_TAIL = N_SUMMARY * CHUNK
+
+
 @njit(cache=CACHE)
-def warm_rows(n_balls):
-    """Rows of a ball set's warm scratch for ``n_balls`` balls: the N_WARM rows of warm starts and room for
-    one chunk of summaries after them."""
-    return N_WARM + (N_SUMMARY * CHUNK + n_balls - 1) // max(n_balls, 1)
+def warm_size(n_balls):
+    """Cells of a ball set's warm scratch for ``n_balls`` balls: the N_WARM rows of warm starts, row r of ball j
+    at r * n_balls + j (one flat vector: a GPU thread's is a strided column of an element-major array), and
+    WARM_TAIL cells of flat scratch after them."""
+    return N_WARM * n_balls + WARM_TAIL
+
+
+@njit(inline="always")
+def warm_cell(row, n, j):
+    """The cell of ball j's ``row`` (schema WARM_*) in a warm scratch of n balls: row * n + j, unsigned, so that
+    numba adds no negative-index test (which kept the chunk pass from loading its balls' starts contiguously)."""
+    return np.uint64(row * n + j)
+
+
+@njit(inline="always")
+def warm_balls(warm):
+    """The ball count of a warm scratch of :func:`warm_size` cells."""
+    return (warm.size - WARM_TAIL) // N_WARM
 
 
 def warm_scratch(speed_table):
@@ -93,7 +111,7 @@ def warm_scratch(speed_table):
 def _warm_scratch(speed_table):
     if isinstance(speed_table, types.NoneType):
         return lambda speed_table: None
-    return lambda speed_table: np.zeros((warm_rows(speed_table.shape[1]), speed_table.shape[1]))
+    return lambda speed_table: np.zeros(warm_size(speed_table.shape[1]))
 
 
 def forget_warm(warm):
@@ -107,8 +125,9 @@ def _forget_warm(warm):
         return lambda warm: None
 
     def forget(warm):
-        for j in range(warm.shape[1]):
-            warm[WARM_VALID, j] = 0.0
+        n = warm_balls(warm)
+        for j in range(n):
+            warm[warm_cell(WARM_VALID, n, j)] = 0.0
     return forget
 
 
@@ -124,14 +143,15 @@ def _take_linearised(warm, allowed):
         return lambda warm, allowed: None
 
     def take(warm, allowed):
-        if warm.shape[1] > 0:
-            warm[WARM_LINEARISE, 0] = 1.0 if allowed else 0.0
+        n = warm_balls(warm)
+        if n > 0:
+            warm[warm_cell(WARM_LINEARISE, n, 0)] = 1.0 if allowed else 0.0
     return take
 
 
 def new_warm(n_balls):
     """An empty warm scratch for ``n_balls`` balls (no warm starts: every ball starts from its cold guess)."""
-    return np.zeros((warm_rows(n_balls), n_balls))
+    return np.zeros(warm_size(n_balls))
 
 
 @njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
@@ -602,22 +622,22 @@ def _ball_constants(speed_table, j, omega):
 
 
 @njit(inline="always")
-def _all_cold(warm, j0, m):
-    """Whether no ball of j0 .. j0+m-1 has a warm start (a function: its result is typed bool, never a
+def _all_cold(warm, n, j0, m):
+    """Whether no ball of j0 .. j0+m-1 (of n) has a warm start (a function: its result is typed bool, never a
     literal, so that _predicted_chunk compiles once)."""
     for j in range(j0, j0 + m):
-        if warm[WARM_VALID, j] != 0.0:
+        if warm[warm_cell(WARM_VALID, n, j)] != 0.0:
             return False
     return True
 
 
 @njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
-def _prediction(warm, j, ur, uz):
-    """Ball j's first-order start B - X (u' - u) from its warm start (mm, mirrored frame)."""
-    du_r = ur - warm[WARM_UR, j]
-    du_z = uz - warm[WARM_UZ, j]
-    return (warm[WARM_BR, j] - (warm[WARM_X00, j] * du_r + warm[WARM_X01, j] * du_z),
-            warm[WARM_BZ, j] - (warm[WARM_X10, j] * du_r + warm[WARM_X11, j] * du_z))
+def _prediction(warm, n, j, ur, uz):
+    """Ball j's (of n) first-order start B - X (u' - u) from its warm start (mm, mirrored frame)."""
+    du_r = ur - warm[warm_cell(WARM_UR, n, j)]
+    du_z = uz - warm[warm_cell(WARM_UZ, n, j)]
+    return (warm[warm_cell(WARM_BR, n, j)] - (warm[warm_cell(WARM_X00, n, j)] * du_r + warm[warm_cell(WARM_X01, n, j)] * du_z),
+            warm[warm_cell(WARM_BZ, n, j)] - (warm[warm_cell(WARM_X10, n, j)] * du_r + warm[warm_cell(WARM_X11, n, j)] * du_z))
 
 
 @njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
@@ -628,6 +648,7 @@ def _predicted_chunk(q, table, speed_table, omega, eps, warm, out, j0, m, linear
     (flat, field k of ball j0+i at k*CHUNK + i).
     Branch-free passes over the balls, so that they vectorise; a ball without a warm start in a warm
     chunk gets a meaningless summary, which the caller does not read."""
+    n = table.shape[1]
     if cold:
         for i in range(m):
             ur, uz = _inner_centre(q, table, j0 + i)
@@ -639,7 +660,7 @@ def _predicted_chunk(q, table, speed_table, omega, eps, warm, out, j0, m, linear
         j = j0 + i
         ur, uz = _inner_centre(q, table, j)
         p, w_i, w_o = _ball_constants(speed_table, j, omega)
-        br, bz = _prediction(warm, j, ur, uz)
+        br, bz = _prediction(warm, n, j, ur, uz)
         if cold:
             br = out[SM_BR * CHUNK + i]
             bz = out[SM_BZ * CHUNK + i]
@@ -742,12 +763,12 @@ def _ball_pass(q, table, speed_table, omega, eps, ball_load, contact_angle, stat
     total = 0.0
     n_loaded = 0
     flags = 0
-    linearise = n > 0 and states is None and warm[WARM_LINEARISE, 0] != 0.0
-    out = warm.reshape(warm.size)[N_WARM * n:]  # the scratch's tail, flat
+    linearise = n > 0 and states is None and warm[warm_cell(WARM_LINEARISE, n, 0)] != 0.0
+    out = warm[N_WARM * n:]  # the scratch's tail
     for j0 in range(0, n, CHUNK):
         m = min(CHUNK, n - j0)
         # a chunk with no warm start at all (a case's first evaluation) starts from the cold guesses
-        cold = _all_cold(warm, j0, m)
+        cold = _all_cold(warm, n, j0, m)
         _predicted_chunk(q, table, speed_table, omega, eps, warm, out, j0, m, linearise, cold)
         for i in range(m):
             j = j0 + i
@@ -765,7 +786,7 @@ def _ball_pass(q, table, speed_table, omega, eps, ball_load, contact_angle, stat
                 # decides, from its free equilibrium
                 resettle = verdict == STEP or room
                 start = verdict == STEP and not room
-            elif warm[WARM_VALID, j] != 0.0:
+            elif warm[warm_cell(WARM_VALID, n, j)] != 0.0:
                 start = True
                 # both contacts closed at a settled or nearly settled centre, and no room to be free: the ball's
                 # one equilibrium (its potential is convex where it touches a race); a step to take, a contact
@@ -782,15 +803,15 @@ def _ball_pass(q, table, speed_table, omega, eps, ball_load, contact_angle, stat
             _, _, Qi, Qo, ci, si, co, so, Fc, Mg, wm, d_i, d_o = sm[:SM_X00]
             if not exact:
                 flags |= 8
-            warm[WARM_BR, j] = br + db_r
-            warm[WARM_BZ, j] = bz + db_z
-            warm[WARM_UR, j] = ur
-            warm[WARM_UZ, j] = uz
-            warm[WARM_X00, j] = sm[SM_X00]
-            warm[WARM_X01, j] = sm[SM_X01]
-            warm[WARM_X10, j] = sm[SM_X10]
-            warm[WARM_X11, j] = sm[SM_X11]
-            warm[WARM_VALID, j] = 1.0 if settled and iterations >= 0 else 0.0
+            warm[warm_cell(WARM_BR, n, j)] = br + db_r
+            warm[warm_cell(WARM_BZ, n, j)] = bz + db_z
+            warm[warm_cell(WARM_UR, n, j)] = ur
+            warm[warm_cell(WARM_UZ, n, j)] = uz
+            warm[warm_cell(WARM_X00, n, j)] = sm[SM_X00]
+            warm[warm_cell(WARM_X01, n, j)] = sm[SM_X01]
+            warm[warm_cell(WARM_X10, n, j)] = sm[SM_X10]
+            warm[warm_cell(WARM_X11, n, j)] = sm[SM_X11]
+            warm[warm_cell(WARM_VALID, n, j)] = 1.0 if settled and iterations >= 0 else 0.0
             loaded = d_i > 0.0
             n_loaded += loaded
             if not settled:
@@ -834,9 +855,9 @@ def spinning_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact_a
     in a record of 2 n_balls Q_o and alpha_o after them (a load map's life at speed); ``states``
     (n_balls, N_STATE) or None records the whole ball.
 
-    ``warm`` (:func:`warm_rows` (n_balls), n_balls; :func:`new_warm`): each ball starts from its last settled
+    ``warm`` (:func:`warm_size` (n_balls) cells; :func:`new_warm`): each ball starts from its last settled
     centre moved by the first-order prediction (rows WARM_*; none in a fresh scratch: the cold guess) and
-    leaves its new one there (a scratch too small returns NaN with bit 4). CHUNK balls at a time,
+    leaves its new one there (a scratch of another size returns NaN with bit 4). CHUNK balls at a time,
     one vectorised pass (:func:`_predicted_chunk`) takes every ball's state at its prediction (at its cold
     guess in a chunk with no warm start at all) into the scratch's tail; the loop then takes each summary
     that will do and settles the others one by one (:func:`settle_ball`). Inside a solve (``warm`` row
@@ -847,7 +868,7 @@ def spinning_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact_a
     first-order close, evaluate again for the model's).
     """
     n = table.shape[1]
-    if n > 0 and warm.shape[0] < warm_rows(n):  # no room for the summaries: a caller's error, reported as such
+    if warm.size != warm_size(n):  # not this ball set's scratch: a caller's error, reported as such
         f[:] = math.nan
         if K is not None:
             K[:, :] = math.nan

@@ -162,7 +162,7 @@ def ball_loop(q, balls, f, K, ball_load, contact_angle):
         by :func:`slice_loop`; ``speed_table`` None (the quasi-static model) or
         the per-ball constants of the high-speed model (bearing.speed_table)
         with the shaft speed ``omega`` in rad/s (at 0 the quasi-static loop runs)
-        and ``warm`` (high_speed.warm_rows(n_balls), n_balls) the balls' warm
+        and ``warm`` (high_speed.warm_size(n_balls) cells) the balls' warm
         starts and the loop's scratch (None without a speed table).
     f : (5,) float64, out
         (Fx, Fy, Fz, Mx, My) on the inner ring in N and N*mm.
