@@ -61,9 +61,10 @@ Positions = namedtuple("Positions", "tables slices speed_tables")
 #: One thread's work space: the solver's ``work`` (WORK_ROWS, 5) and the map predictor's ``predictor``
 #: (PREDICTOR_ROWS, 5); the per-element record ``ball_load`` (N) and ``contact_angle`` (rad), each
 #: ScratchShape.record long; ``sums`` (life_rows, 2) the life sums; ``spin`` the balls' warm starts
-#: (high_speed.warm_size cells, flat; None quasi-static); ``outer_load``, ``outer_count`` (rows,) the outer contacts' row
-#: summary at speed; ``table`` and ``slices`` the thread's own copies of the ball and slice tables, where each
-#: case's operating values are written (None without CaseBlock.operating; ``slices`` None without roller rows).
+#: (high_speed.warm_size cells, flat; None quasi-static); ``outer_load``, ``outer_count`` (rows,) the outer
+#: contacts' row summary at speed; ``table`` and ``slices`` the thread's own copies of the ball and slice tables,
+#: where each case's operating values are written (None without CaseBlock.operating; ``slices`` None without
+#: roller rows).
 Scratch = namedtuple("Scratch", "work predictor ball_load contact_angle sums spin outer_load outer_count table "
                                 "slices")
 

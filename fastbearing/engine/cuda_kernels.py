@@ -74,8 +74,8 @@ else:
 @njit(inline="always")
 def element_set(tables, spin_all, t):
     """The kernels' ElementSet from its device form (gpu.device_elements: every part an array, ABSENT where the
-    bearing has none), the parts it lacks None again, and thread t's warm starts (column t of ``spin_all``, element-major: a
-    strided view)."""
+    bearing has none), the parts it lacks None again, and thread t's warm starts (column t of ``spin_all``,
+    element-major: a strided view)."""
     spin = spin_all[:, t]
     return ElementSet(tables.balls, present(tables.exponents), tables.smoothing, present(tables.slices),
                       present(tables.speed_table), tables.omega, kept_if(tables.speed_table, spin),

@@ -30,7 +30,7 @@ from numba.extending import overload
 from ..config import CACHE, ERROR_MODEL, KERNEL_FASTMATH, REFCOUNT
 from .deflection import deflection
 from .high_speed import (BALL_RTOL, LINEAR_REACH, _ball_constants, _inner_centre, contact_hessian, kinematics,
-                         start_position, warm_cell, write_contacts, write_state)
+                         start_position, warm_cell, warm_x, write_contacts, write_state)
 from .schema import (AXIAL_OFFSET, COS_NOMINAL, COS_PSI, DEFLECTION_LIMIT, DIAMETER, DIRECTION, GAMMA, INERTIA,
                      INNER_ARM, INNER_CONTROL, INNER_RADIUS, K_INNER, K_OUTER, LAMBDA_INNER, LAMBDA_OUTER,
                      MASS_RADIUS, N_WARM, OUTER_RADIUS, PITCH_RADIUS, SIN_PSI, WARM_BR, WARM_BZ,
@@ -793,10 +793,10 @@ def four_point_balls(q, table, speed_table, omega, eps, f, K, ball_load, contact
             du1z = u1z - warm[warm_cell(WARM_UZ, n, j)]
             du2r = u2r - warm[warm_cell(WARM_UR, n, m_col)]
             du2z = u2z - warm[warm_cell(WARM_UZ, n, m_col)]
-            br = warm[warm_cell(WARM_BR, n, j)] - (warm[warm_cell(WARM_X00, n, j)] * du1r + warm[warm_cell(WARM_X01, n, j)] * du1z
-                                     + warm[warm_cell(WARM_X00, n, m_col)] * du2r + warm[warm_cell(WARM_X01, n, m_col)] * du2z)
-            bz = warm[warm_cell(WARM_BZ, n, j)] - (warm[warm_cell(WARM_X10, n, j)] * du1r + warm[warm_cell(WARM_X11, n, j)] * du1z
-                                     + warm[warm_cell(WARM_X10, n, m_col)] * du2r + warm[warm_cell(WARM_X11, n, m_col)] * du2z)
+            x1 = warm_x(warm, n, j)
+            x2 = warm_x(warm, n, m_col)
+            br = warm[warm_cell(WARM_BR, n, j)] - (x1[0] * du1r + x1[1] * du1z + x2[0] * du2r + x2[1] * du2z)
+            bz = warm[warm_cell(WARM_BZ, n, j)] - (x1[2] * du1r + x1[3] * du1z + x2[2] * du2r + x2[3] * du2z)
             # one look at the prediction (:func:`linear_look`): settled there, or a Newton step short against
             # every contact's deflection, taken to first order (the ball's forces and centre), or a settle
             br, bz, settled, stepped, y, st, J = linear_look(u, p, w_i, w_o, eps, br, bz)

@@ -98,6 +98,13 @@ def warm_cell(row, n, j):
 
 
 @njit(inline="always")
+def warm_x(warm, n, j):
+    """Ball j's (column j's) X = G_B^-1 G_u of its last settle from a warm scratch of n balls: (X00, X01, X10, X11)."""
+    return (warm[warm_cell(WARM_X00, n, j)], warm[warm_cell(WARM_X01, n, j)], warm[warm_cell(WARM_X10, n, j)],
+            warm[warm_cell(WARM_X11, n, j)])
+
+
+@njit(inline="always")
 def warm_balls(warm):
     """The ball count of a warm scratch of :func:`warm_size` cells."""
     return (warm.size - WARM_TAIL) // N_WARM
@@ -636,8 +643,9 @@ def _prediction(warm, n, j, ur, uz):
     """Ball j's (of n) first-order start B - X (u' - u) from its warm start (mm, mirrored frame)."""
     du_r = ur - warm[warm_cell(WARM_UR, n, j)]
     du_z = uz - warm[warm_cell(WARM_UZ, n, j)]
-    return (warm[warm_cell(WARM_BR, n, j)] - (warm[warm_cell(WARM_X00, n, j)] * du_r + warm[warm_cell(WARM_X01, n, j)] * du_z),
-            warm[warm_cell(WARM_BZ, n, j)] - (warm[warm_cell(WARM_X10, n, j)] * du_r + warm[warm_cell(WARM_X11, n, j)] * du_z))
+    x00, x01, x10, x11 = warm_x(warm, n, j)
+    return (warm[warm_cell(WARM_BR, n, j)] - (x00 * du_r + x01 * du_z),
+            warm[warm_cell(WARM_BZ, n, j)] - (x10 * du_r + x11 * du_z))
 
 
 @njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)

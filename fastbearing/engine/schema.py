@@ -75,7 +75,7 @@ STATE_INNER_LOAD, STATE_OUTER_LOAD, STATE_INNER_ANGLE, STATE_OUTER_ANGLE, STATE_
     STATE_ORBITAL_SPEED, STATE_ITERATIONS, STATE_RESIDUAL = range(9)  # iterations -1: a free ball
 N_STATE = 9
 
-# -- the balls' warm-start scratch at speed (high_speed.new_warm): one flat vector, row r of ball j at r * n + j --------
+# -- the balls' warm-start scratch at speed (high_speed.new_warm): one flat vector, row r of ball j at r * n + j ---
 #: Each ball's settled centre B (mm), the inner groove centre u it was settled for (mm) and X = G_B^-1 G_u
 #: there, so that the next evaluation starts from the first-order prediction B - X (u' - u); WARM_VALID 0:
 #: no start stored (a free or unsettled ball). WARM_LINEARISE (its first cell only, WARM_LINEARISE * n): set by
