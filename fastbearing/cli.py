@@ -24,6 +24,7 @@ from .config import METHODS
 from .dofs import DISPLACEMENT_NAMES, LOAD_NAMES
 from .report.export import FORMATS as EXPORT_FORMATS
 from .files import DiskFull, OutputExists
+from .jobs.warmup import FAMILIES as WARMUP_FAMILIES
 from .report.plot import NORMALISE, PASSAGE_X
 
 EXIT_USAGE = 2
@@ -271,7 +272,7 @@ def build_parser() -> argparse.ArgumentParser:
                            "level (e.g. x86-64-v3) in DIR, for processes run with NUMBA_CPU_NAME=LEVEL, "
                            "NUMBA_CPU_FEATURES= and NUMBA_CACHE_DIR=DIR. Units: N, mm, rad."))
     w.add_argument("--kinds", metavar="FAMILY,...", default=None, help="only these kernel families (comma-separated; "
-                   "default all): quasi-static, speed, four-point, roller, life, batches, maps, passage, shafts")
+                   "default all): " + ", ".join(WARMUP_FAMILIES))
     w.add_argument("--portable", metavar="LEVEL", default=None, help="compile for this CPU level (an LLVM CPU name: "
                    "x86-64-v3 needs AVX2 and FMA, x86-64-v4 AVX-512) instead of this machine's CPU; needs --into")
     w.add_argument("--into", metavar="DIR", default=None, help="with --portable: the cache folder to build")

@@ -179,3 +179,20 @@ def test_a_portable_level_the_host_cannot_run_is_refused_before_anything_runs(mo
     assert not (tmp_path / "v4").exists()
     assert cli.main(["warmup", "--portable", "pentium4", "--into", str(tmp_path / "p4")]) == 2
     assert "one of x86-64-v2, x86-64-v3, x86-64-v4" in capsys.readouterr().err
+
+
+def test_the_warmup_processes_import_this_fastbearing_not_a_clone_in_the_working_folder(tmp_path):
+    """A portable warm-up's process runs ``python -P`` with this package first on PYTHONPATH: started in a
+    clone's folder, it still compiles the installed package's files (numba keys its cache by them)."""
+    from fastbearing.jobs.warmup import _same_package
+
+    decoy = tmp_path / "fastbearing"
+    decoy.mkdir()
+    (decoy / "__init__.py").write_text("raise SystemExit('imported the decoy')\n")
+    env = _same_package()
+    out = subprocess.run([sys.executable, "-P", "-c", "import fastbearing; print(fastbearing.__file__)"], env=env,
+                         cwd=tmp_path, capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0, out.stderr
+    import fastbearing
+
+    assert out.stdout.strip() == fastbearing.__file__

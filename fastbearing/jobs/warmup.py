@@ -258,8 +258,18 @@ def warmup_portable(level: str, into, kinds=None) -> int:
     Path(into).mkdir(parents=True, exist_ok=True)
     code = ("import sys; from fastbearing.jobs.warmup import warmup; "
             "warmup(sys.argv[1].split(',') if sys.argv[1] else None)")
-    return subprocess.run([sys.executable, "-c", code, ",".join(kinds or ())],
-                          env=env).returncode
+    return subprocess.run([sys.executable, "-P", "-c", code, ",".join(kinds or ())],
+                          env=_same_package(env)).returncode
+
+
+def _same_package(env=None) -> dict:
+    """``env`` (default this process's) for a child process that imports this very fastbearing, run with
+    ``python -P``: numba keys its cache by the source files' paths, so a child that imported a clone's
+    source from its working folder instead of the installed package would fill a cache no later run reads."""
+    env = dict(os.environ if env is None else env)
+    here = str(Path(__file__).resolve().parents[2])
+    env["PYTHONPATH"] = os.pathsep.join(p for p in (here, env.get("PYTHONPATH")) if p)
+    return env
 
 
 def _check_host_runs(level: str) -> None:
