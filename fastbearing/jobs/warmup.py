@@ -90,11 +90,19 @@ def _batches(folder: Path) -> None:
 
     from ..api import solve_many, stiffness_many
     from ..model.bearing import Bearing
+    from ..model.bearing_file import load_bearing
 
     bearing = Bearing.preset("gunduz2013", "DB")
     loads = np.array([_PAPER_LOAD, [500.0, 0.0, 2000.0, 0.0, 0.0]])
     result = solve_many(bearing, loads, threads=1)
     stiffness_many(bearing, result.q, threads=1)
+    # each element kind's batch has its own element set: at speed, rollers, four-point balls at speed
+    for name, load, speed in (("7014C-DB", _SPINDLE_LOAD, _SPINDLE_SPEED),
+                              ("30206-TDO", [4000.0, 0.0, 1500.0, 0.0, 0.0], 0.0),
+                              ("QJ210", [2000.0, 0.0, 1000.0, 0.0, 0.0], 3000.0)):
+        bearing = load_bearing(name)
+        result = solve_many(bearing, np.array([load, load]), threads=1, speed=speed)
+        stiffness_many(bearing, result.q, threads=1, speed=speed)
 
 
 def _maps(folder: Path) -> None:
@@ -187,7 +195,8 @@ FAMILIES = {
     "four-point": ("four-point contact balls, at rest and at speed", _four_point),
     "roller": ("cylindrical and tapered roller rows", _roller),
     "life": ("ISO 281 and ISO/TS 16281 rating life, at rest and at speed", _life),
-    "batches": ("solve_many and stiffness_many (the API's parallel sweeps)", _batches),
+    "batches": ("solve_many and stiffness_many (the API's parallel sweeps), at rest, at speed, rollers, four-point",
+                _batches),
     "maps": ("load maps: the README's main job and a map over speed with life", _maps),
     "passage": ("ball-passage tables, with a defect", _passage),
     "shafts": ("rigid shafts on several bearings, at rest and at speed, with life", _shafts),
