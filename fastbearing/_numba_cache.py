@@ -149,3 +149,131 @@ def targets_in(index: Path) -> set:
     """The targets (triple, CPU name, features) of an index file's entries (empty when unreadable)."""
     found = read_index(index)
     return {tuple(key[1]) for key in found[2]} if found else set()
+
+
+# -- one compiler per function across processes -------------------------------------------------------------
+# numba's cache has no lock: processes that start together on an empty cache (pytest-xdist's workers, a Dask
+# cluster's, `fastbearing` commands run side by side) each compile every function themselves, and two that save
+# entries of one function at once race on its index (``IndexDataCacheFile.save`` reads the index, adds its key
+# with the first free data file number, writes it back): one entry is lost, or an index entry names a data file
+# the other process wrote for another signature. Here a process that misses the cache for one of the package's
+# functions takes that function's lock file (beside its index, ``<index>.lock``, ``flock``) before it compiles,
+# and holds it until its entry is saved; a process that finds the lock held waits, then loads what the holder
+# saved. The lock is per function (all its signatures), re-entrant within a process, released when the
+# process ends whatever happens, and never waited on longer than LOCK_PATIENCE.
+
+#: The longest a process waits for another one compiling the same function before it compiles it itself (s).
+LOCK_PATIENCE = 900.0
+#: After this many seconds of waiting a process says so, then every WAIT_EVERY seconds.
+WAIT_FIRST = 2.0
+WAIT_EVERY = 10.0
+_PACKAGE_PREFIX = "fastbearing."
+_held: dict = {}  # lock file path -> [file descriptor, depth]
+_locks_installed = False
+
+
+def _lock_path(cache) -> str | None:
+    """The lock file of a numba FunctionCache ``cache`` of one of the package's functions, else None."""
+    module = getattr(getattr(cache, "_py_func", None), "__module__", "") or ""
+    index = getattr(getattr(cache, "_cache_file", None), "_index_path", None)
+    return index + ".lock" if index and module.startswith(_PACKAGE_PREFIX) else None
+
+
+def _acquire(path: str, name: str, say) -> bool:
+    """Take the lock file ``path`` (re-entrant); False when it could not be opened or waiting ran out."""
+    import fcntl
+    import time
+
+    if path in _held:
+        _held[path][1] += 1
+        return True
+    try:
+        fd = os.open(path, os.O_CREAT | os.O_RDWR, 0o644)
+    except OSError:  # a read-only cache folder: numba does not save there either
+        return False
+    started = time.monotonic()
+    told = WAIT_FIRST
+    while True:
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            _held[path] = [fd, 1]
+            return True
+        except BlockingIOError:
+            waited = time.monotonic() - started
+            if waited >= LOCK_PATIENCE:
+                os.close(fd)
+                return False
+            if waited >= told:
+                say(f"fastbearing: another process is compiling {name}; waiting for numba's cache, "
+                    f"{waited:.0f} s so far")
+                told += WAIT_EVERY
+            time.sleep(0.05)
+        except OSError:  # a file system without flock
+            os.close(fd)
+            return False
+
+
+def _release(path: str | None) -> None:
+    """Give back one hold of the lock file ``path`` (the last one unlocks it)."""
+    held = _held.get(path)
+    if held is None:
+        return
+    held[1] -= 1
+    if held[1] <= 0:
+        del _held[path]
+        os.close(held[0])  # closing the descriptor drops its flock
+
+
+def serialise_compiles(say=None) -> bool:
+    """Install the per-function compile lock (above) on numba's FunctionCache, once per process; ``say``
+    receives the waiting lines (default: stderr). Returns whether it is in place (False: a numba without
+    these internals or a system without ``fcntl``, which then compiles as before)."""
+    global _locks_installed
+    if _locks_installed:
+        return True
+    import importlib.util
+
+    if importlib.util.find_spec("fcntl") is None:  # POSIX only
+        return False
+    try:
+        from numba.core import caching, event
+        cache_class = caching.FunctionCache
+        load_overload, save_overload = cache_class.load_overload, cache_class.save_overload
+    except (ImportError, AttributeError):
+        return False
+    say = say or (lambda line: print(line, file=sys.stderr, flush=True))
+
+    def load(self, sig, target_context):
+        found = load_overload(self, sig, target_context)
+        path = _lock_path(self)
+        if found is not None or path is None:
+            return found
+        if not _acquire(path, getattr(self._py_func, "__qualname__", "a kernel"), say):
+            return None
+        again = load_overload(self, sig, target_context)  # what a process that held the lock saved meanwhile
+        if again is not None:
+            _release(path)
+        return again
+
+    def save(self, sig, data):
+        try:
+            return save_overload(self, sig, data)
+        finally:
+            _release(_lock_path(self))
+
+    class _Failed(event.Listener):  # a compilation that raised saves nothing: give its lock back
+        def on_start(self, ev):
+            pass
+
+        def on_end(self, ev):
+            if ev.is_failed and ev.data:
+                cache = getattr(ev.data.get("dispatcher"), "_cache", None)
+                _release(_lock_path(cache))
+
+    load.__wrapped__ = load_overload
+    save.__wrapped__ = save_overload
+    cache_class.load_overload = load
+    cache_class.save_overload = save
+    event.register("numba:compile", _Failed())
+    _locks_installed = True
+    return True

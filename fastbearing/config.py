@@ -30,9 +30,11 @@ def __getattr__(name):
     # this file without paying for numba.
     if name == "CACHE":
         from ._cache import ensure_fresh, self_contained_linking
+        from ._numba_cache import serialise_compiles
         from ._prebuilt import use_prebuilt
 
         self_contained_linking()  # before any kernel compiles or loads: the same bits either way
+        serialise_compiles()  # processes started together compile each function once, not once each
         digest = ensure_fresh()
         # set before the prebuilt copy: unpickling its signatures imports kernel modules, which look it up
         globals()["CACHE"] = True
