@@ -49,13 +49,6 @@ HALVINGS = 40
 #: step that does not settle allowed in all.
 SPEED_STEPS = 8
 SPEED_HALVINGS = 12
-#: The settle's fastmath (:func:`settle_four_point`, whose Newton steps take the hand pass): none.
-#: numba links a callee's optimised module into each caller's and optimises it again there; with the
-#: kernels' reassociation the settle's hand pass (:func:`_settle_eval`) came out one ulp different as
-#: compiled inside :func:`canonical_settle` and on its own, which tests/test_four_point_fast.py forbids (with
-#: contraction alone a settled ball's residual differed by 20 ulp of its forces between contexts). IEEE
-#: arithmetic compiles to the same bits in every caller.
-SETTLE_FASTMATH = False
 
 
 def root(x):
@@ -408,15 +401,14 @@ def _pairs_shared(P1, P2, wm1, wm2, S1, S2, p, w_i, w_o, like):
     """What the ball's two contact pairs share, in dual numbers of ``like``'s width, from each pair's contact
     load sum P (N), orbital speed wm (rad/s) and spin factor S: each pair weighted by its load (w1 = P1 / (P1 +
     P2), half each when both are unloaded), the ball's omega_m = w1 wm1 + w2 wm2, its centrifugal force F_c (N)
-    and each pair's gyroscopic friction factor f = J (w_o - w_i) / (gamma' D) w S (N). Returns (F_c, f1, f2,
-    omega_m)."""
+    and each pair's gyroscopic friction factor f = J (w_o - w_i) / (gamma' D) w S (N). Returns (F_c, f1, f2)."""
     total = dadd(P1, P2)
     w1 = ddiv(P1, total) if total[0] > 0.0 else dconst(0.5, like)
     w2 = dsub(dconst(1.0, like), w1)
     wm = dadd(dmul(w1, wm1), dmul(w2, wm2))
     Fc = dscale(p[MASS_RADIUS], dmul(wm, wm))
     jd = p[INERTIA] * (w_o - w_i) / p[GAMMA] / p[DIAMETER]
-    return Fc, dscale(jd, dmul(w1, S1)), dscale(jd, dmul(w2, S2)), wm
+    return Fc, dscale(jd, dmul(w1, S1)), dscale(jd, dmul(w2, S2))
 
 
 @njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
@@ -426,7 +418,7 @@ def _dual_ball(br, bz, u1r, u1z, u2r, u2z, p, w_i, w_o, eps):
     Qi1, Qo1, ci1, si1, co1, so1, wm1, S1 = _dual_pair(u1r, u1z, br, bz, p, w_i, w_o, eps)
     bz2 = dsub(dconst(2.0 * p[OUTER_RADIUS] * s0, br), bz)  # B from O_-, in pair -'s frame
     Qi2, Qo2, ci2, si2, co2, so2, wm2, S2 = _dual_pair(u2r, u2z, br, bz2, p, w_i, w_o, eps)
-    Fc, f1, f2, _ = _pairs_shared(dadd(Qi1, Qo1), dadd(Qi2, Qo2), wm1, wm2, S1, S2, p, w_i, w_o, br)
+    Fc, f1, f2 = _pairs_shared(dadd(Qi1, Qo1), dadd(Qi2, Qo2), wm1, wm2, S1, S2, p, w_i, w_o, br)
     li = p[LAMBDA_INNER]
     lo = p[LAMBDA_OUTER]
     g1r = dadd(dsub(dmul(Qi1, ci1), dmul(Qo1, co1)), dmul(f1, dsub(dscale(li, si1), dscale(lo, so1))))
@@ -474,7 +466,7 @@ def dlift(val, b_r, b_z, u_r, u_z, second, like):
     2 r_o sin a0 - bz) and placed in u2's columns; at width 2 only the B columns."""
 
 
-@overload(dlift)  # not inlined in numba IR: a branch inlined there made numba warn (NumbaIRAssumptionWarning); LLVM inlines it
+@overload(dlift, inline="always")
 def _dlift(val, b_r, b_z, u_r, u_z, second, like):
     if _width(like) == 2:
         def impl2(val, b_r, b_z, u_r, u_z, second, like):
@@ -492,19 +484,17 @@ def _dlift(val, b_r, b_z, u_r, u_z, second, like):
 def _hand_pair(ur, uz, br, bz, p, w_i, w_o, eps, second, like):
     """One contact pair (:func:`_pair`'s arguments, floats) as dual numbers of ``like``'s width, their derivatives
     in closed form: (P = Q_i + Q_o, omega_m, S, c_r, c_z (the contact part of g: Q_i n_i - Q_o n_o), T_r, T_z (the
-    friction's direction li t_i - lo t_o, t = (sin a, -cos a)), Q_i n_i, t_i, Q_i > 0, and the pair's state as
-    :func:`_pair`'s floats (Q_i, Q_o, ci, si, co, so, omega_m, S, delta_i, delta_o) with its centre distances
-    (L_i, L_o)). Its values are :func:`_pair`'s, the same operations in the same order."""
+    friction's direction li t_i - lo t_o, t = (sin a, -cos a)), Q_i n_i, t_i, Q_i > 0)."""
     Lo = math.sqrt(br * br + bz * bz)
     inv_o = 1.0 / Lo
-    co = br / Lo
-    so = bz / Lo
+    co = br * inv_o
+    so = bz * inv_o
     vr = ur - br
     vz = uz - bz
     Li = math.sqrt(vr * vr + vz * vz)
     inv_i = 1.0 / Li
-    ci = vr / Li
-    si = vz / Li
+    ci = vr * inv_i
+    si = vz * inv_i
     d_o, slope_o = deflection(Lo - p[OUTER_RADIUS], eps)
     d_i, slope_i = deflection(Li - p[INNER_RADIUS], eps)
     sq_o = math.sqrt(d_o)
@@ -540,24 +530,20 @@ def _hand_pair(ur, uz, br, bz, p, w_i, w_o, eps, second, like):
     F_z = dlift(Qi * si, -hi_rz, -hi_zz, hi_rz, hi_zz, second, like)
     t_r = dlift(si, -pic, -piz, pic, piz, second, like)
     t_z = dlift(-ci, pir, pic, -pir, -pic, second, like)
-    return (P, wmd, Sd, c_r, c_z, T_r, T_z, F_r, F_z, t_r, t_z, Qi > 0.0,
-            (Qi, Qo, ci, si, co, so, wm, S, d_i, d_o, Li, Lo))
+    return P, wmd, Sd, c_r, c_z, T_r, T_z, F_r, F_z, t_r, t_z, Qi > 0.0
 
 
 @njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
 def _hand_ball(x, p, w_i, w_o, eps, like):
     """:func:`_dual_ball` at x = (br, bz, u1r, u1z, u2r, u2z) (floats), its derivatives from :func:`_hand_pair`,
-    as dual numbers of ``like``'s width (6: all of x; 2: B alone); with them the ball's state as
-    :func:`four_point_ball`'s second output (floats) and the four contacts' centre distances (L_i1, L_o1, L_i2,
-    L_o2, mm). One pass gives the ball's evaluation and its Jacobian: the settle's Newton steps (width 2) and a
-    moved ball's look (width 6) share every square root and division between the two."""
+    as dual numbers of ``like``'s width (6: all of x; 2: B alone)."""
     s0 = math.sqrt(1.0 - p[COS_NOMINAL] * p[COS_NOMINAL])
-    P1, wm1, S1, c1r, c1z, T1r, T1z, F1r, F1z, t1r, t1z, on1, s1 = _hand_pair(x[2], x[3], x[0], x[1], p, w_i, w_o,
-                                                                              eps, False, like)
-    P2, wm2, S2, c2r, c2z, T2r, T2z, F2r, F2z, t2r, t2z, on2, s2 = _hand_pair(x[4], x[5], x[0],
-                                                                              2.0 * p[OUTER_RADIUS] * s0 - x[1], p,
-                                                                              w_i, w_o, eps, True, like)
-    Fc, f1, f2, wm = _pairs_shared(P1, P2, wm1, wm2, S1, S2, p, w_i, w_o, like)
+    P1, wm1, S1, c1r, c1z, T1r, T1z, F1r, F1z, t1r, t1z, on1 = _hand_pair(x[2], x[3], x[0], x[1], p, w_i, w_o, eps,
+                                                                          False, like)
+    P2, wm2, S2, c2r, c2z, T2r, T2z, F2r, F2z, t2r, t2z, on2 = _hand_pair(x[4], x[5], x[0],
+                                                                          2.0 * p[OUTER_RADIUS] * s0 - x[1], p,
+                                                                          w_i, w_o, eps, True, like)
+    Fc, f1, f2 = _pairs_shared(P1, P2, wm1, wm2, S1, S2, p, w_i, w_o, like)
     li = p[LAMBDA_INNER]
     on1 = on1 or eps != 0.0
     on2 = on2 or eps != 0.0
@@ -571,9 +557,7 @@ def _hand_ball(x, p, w_i, w_o, eps, like):
     y5 = dadd(F2r, dscale(li, dmul(f2, t2r))) if on2 else zero
     y6 = dadd(F2z, dscale(li, dmul(f2, t2z))) if on2 else zero
     y7 = dscale(arm, f2) if on2 else zero
-    st = (s1[0], s1[1], s2[0], s2[1], s1[2], s1[3], s1[4], s1[5], s2[2], s2[3], s2[4], s2[5], Fc[0],
-          p[DIAMETER] * (f1[0] + f2[0]), wm[0], s1[8], s1[9], s2[8], s2[9])
-    return (y0, y1, y2, y3, y4, y5, y6, y7), st, (s1[10], s1[11], s2[10], s2[11])
+    return y0, y1, y2, y3, y4, y5, y6, y7
 
 
 @njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
@@ -582,27 +566,29 @@ def ball_jacobian(x, p, w_i, w_o, eps):
     u2z) (mm; g, F in N, m in N*mm): each pair's derivatives in closed form (:func:`_hand_pair`), combined in
     dual numbers (:func:`_hand_ball`); real arithmetic, exact to rounding (the tests hold it to the all-dual
     :func:`dual_jacobian` and the complex step, :func:`_derivative`)."""
-    (y0, y1, y2, y3, y4, y5, y6, y7), _, _ = _hand_ball(x, p, w_i, w_o, eps, (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0))
+    y0, y1, y2, y3, y4, y5, y6, y7 = _hand_ball(x, p, w_i, w_o, eps, (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0))
     return (_column(y0, y1, y2, y3, y4, y5, y6, y7, 1), _column(y0, y1, y2, y3, y4, y5, y6, y7, 2),
             _column(y0, y1, y2, y3, y4, y5, y6, y7, 3), _column(y0, y1, y2, y3, y4, y5, y6, y7, 4),
             _column(y0, y1, y2, y3, y4, y5, y6, y7, 5), _column(y0, y1, y2, y3, y4, y5, y6, y7, 6))
 
 
 @njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
-def _values(y):
-    """The values of eight dual numbers."""
-    return (y[0][0], y[1][0], y[2][0], y[3][0], y[4][0], y[5][0], y[6][0], y[7][0])
+def _newton_jacobian(br, bz, u, p, w_i, w_o, eps):
+    """dg/dB alone, ((dg_r, dg_z)/dB_r, (dg_r, dg_z)/dB_z), in dual numbers of two derivatives (the settle's
+    iterations; the ring's outputs, unused, fall away when this is compiled inline). Left in dual numbers: the
+    hand-written pass (:func:`_hand_ball`) costs the same here (0.086 us a call, the cost being the square
+    roots and divisions both share) and, inlined, rounds one ulp differently in another caller, so that a
+    settle called directly and one inside :func:`canonical_settle` would no longer agree bit for bit."""
+    y0, y1, _, _, _, _, _, _ = _dual_ball((br, 1.0, 0.0), (bz, 0.0, 1.0), (u[2], 0.0, 0.0), (u[3], 0.0, 0.0),
+                                          (u[4], 0.0, 0.0), (u[5], 0.0, 0.0), p, w_i, w_o, eps)
+    return (y0[1], y1[1]), (y0[2], y1[2])
 
 
 @njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
-def _settle_eval(br, bz, u, p, w_i, w_o, eps):
-    """The ball at B in one pass (:func:`_hand_ball` of two derivatives, real arithmetic): (largest residual
-    component N, force scale N, the ball's evaluation (y, st) as :func:`four_point_ball`'s, dg/dB_r, dg/dB_z
-    (each (g_r, g_z)), the contacts' centre distances). A Newton trial's evaluation is its next step's
-    Jacobian too: the square roots and divisions are paid once."""
-    y, st, L = _hand_ball((br, bz, u[2], u[3], u[4], u[5]), p, w_i, w_o, eps, (0.0, 0.0, 0.0))
-    return (max(abs(y[0][0]), abs(y[1][0])), st[0] + st[1] + st[2] + st[3] + abs(st[12]), _values(y), st,
-            (y[0][1], y[1][1]), (y[0][2], y[1][2]), L)
+def _residual(br, bz, u, p, w_i, w_o, eps):
+    """(largest residual component N, force scale N, and the ball's evaluation (y, st)) at B."""
+    y, st = four_point_ball(br, bz, u[2], u[3], u[4], u[5], p, w_i, w_o, eps)
+    return max(abs(y[0]), abs(y[1])), st[0] + st[1] + st[2] + st[3] + abs(st[12]), y, st
 
 
 @njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
@@ -635,60 +621,44 @@ def _cold_guess(u, p, w_i, w_o):
     return (ro + push) * c0, ro * s0
 
 
-@njit(inline="always", fastmath=SETTLE_FASTMATH, error_model=ERROR_MODEL)
-def _newton(u, p, w_i, w_o, eps, br, bz, linear_reach):
-    """:func:`settle_four_point`'s Newton iterations: (br, bz, iterations, settled), each trial point evaluated
-    with its Jacobian in one pass (:func:`_settle_eval`)."""
+@njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
+def settle_four_point(u, p, w_i, w_o, eps, br, bz, linear_reach):
+    """The ball's centre B (mm, pair +'s frame) where its residual vanishes, by damped Newton from (br, bz)
+    with the analytic Jacobian (:func:`ball_jacobian`; u: the inner groove centres as its x[2:]). Settled
+    within BALL_RTOL of its largest force, or (the lightest contacts) within the rounding floor of its
+    position, as high_speed's balls. Returns (br, bz, iterations, settled, and at B the ball's evaluation y,
+    st); the caller takes :func:`ball_jacobian` at B where it needs Kb or the warm start's X. With ``linear_reach`` > 0
+    (inside a solve: LINEAR_REACH; else 0, a float whatever its value so that one variant compiles) it also
+    stops, "settled", where its Newton step is short (:func:`_short`), for :func:`linear_look` at B."""
     longest = 0.05 * p[DIAMETER]  # the longest step: a twentieth of the ball
     reach = p[INNER_RADIUS] + p[OUTER_RADIUS] + abs(u[2]) + abs(u[3]) + abs(u[4]) + abs(u[5])
-    res, scale, y, st, a, b, L = _settle_eval(br, bz, u, p, w_i, w_o, eps)
+    res, scale, y, st = _residual(br, bz, u, p, w_i, w_o, eps)
     for it in range(ITERATIONS + 1):
-        if res <= BALL_RTOL * scale:  # settled whatever the rounding floor
-            return br, bz, it, True
+        if res <= BALL_RTOL * scale:  # settled whatever the rounding floor: no Jacobian needed to say so
+            return br, bz, it, True, y, st
+        a, b = _newton_jacobian(br, bz, u, p, w_i, w_o, eps)
         floor = 8.0 * 2.220446049250313e-16 * reach * (abs(a[0]) + abs(a[1]) + abs(b[0]) + abs(b[1]))
         if res <= max(BALL_RTOL * scale, floor):
-            return br, bz, it, True
+            return br, bz, it, True, y, st
         det = a[0] * b[1] - b[0] * a[1]
         if it == ITERATIONS or det == 0.0 or not math.isfinite(det):
-            return br, bz, it, False
+            return br, bz, it, False, y, st
         step_r = (b[1] * y[0] - b[0] * y[1]) / det
         step_z = (a[0] * y[1] - a[1] * y[0]) / det
-        if linear_reach > 0.0 and _short(u, p, br, bz, L, step_r, step_z, linear_reach):
-            return br, bz, it, True  # for :func:`linear_look`, which takes the step to first order
+        if linear_reach > 0.0 and _short(u, p, br, bz, step_r, step_z, linear_reach):
+            return br, bz, it, True, y, st  # for :func:`linear_look`, which takes the step to first order
         t = min(1.0, longest / max(math.sqrt(step_r * step_r + step_z * step_z), 1e-300))
         for _ in range(HALVINGS):
-            trial, trial_scale, y_t, st_t, a_t, b_t, L_t = _settle_eval(br - t * step_r, bz - t * step_z, u, p, w_i,
-                                                                        w_o, eps)
+            trial, trial_scale, y_t, st_t = _residual(br - t * step_r, bz - t * step_z, u, p, w_i, w_o, eps)
             if trial < res:
                 break
             t *= 0.5
         if not trial < res:  # no step lowers the residual: as settled as float64 gets, or stuck
-            return br, bz, it, res <= max(BALL_RTOL * scale, 4.0 * floor)
+            return br, bz, it, res <= max(BALL_RTOL * scale, 4.0 * floor), y, st
         br -= t * step_r
         bz -= t * step_z
-        res, scale, y, st, a, b, L = trial, trial_scale, y_t, st_t, a_t, b_t, L_t
-    return br, bz, ITERATIONS, False  # not reached: the last pass returns
-
-
-@njit(cache=CACHE, fastmath=SETTLE_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
-def settle_four_point(u, p, w_i, w_o, eps, br, bz, linear_reach):
-    """The ball's centre B (mm, pair +'s frame) where its residual vanishes, by damped Newton from (br, bz)
-    with the analytic dG/dB (u: the inner groove centres as :func:`ball_jacobian`'s x[2:]). Settled within
-    BALL_RTOL of its largest force, or (the lightest contacts) within the rounding floor of its position, as
-    high_speed's balls. Returns (br, bz, iterations, settled, and at B the ball's evaluation y, st, as
-    :func:`four_point_ball` gives them); the caller takes :func:`ball_jacobian` at B where it needs Kb or the
-    warm start's X. With ``linear_reach`` > 0 (inside a solve: LINEAR_REACH; else 0, a float whatever its
-    value so that one variant compiles) it also stops, "settled", where its Newton step is short
-    (:func:`_short`), for :func:`linear_look` at B.
-
-    Each Newton trial point is evaluated with its dG/dB in one pass (:func:`_hand_ball` of two derivatives),
-    so that a trial's square roots and divisions serve the next step's Jacobian too; in IEEE arithmetic
-    (SETTLE_FASTMATH), so that the settle compiled inside :func:`canonical_settle` is the one called alone, bit
-    for bit. The answer's evaluation is :func:`four_point_ball`'s at B, as a look there (:func:`linear_look`)
-    repeats it."""
-    br, bz, it, settled = _newton(u, p, w_i, w_o, eps, br, bz, linear_reach)
-    y, st = four_point_ball(br, bz, u[2], u[3], u[4], u[5], p, w_i, w_o, eps)
-    return br, bz, it, settled, y, st
+        res, scale, y, st = trial, trial_scale, y_t, st_t
+    return br, bz, ITERATIONS, False, y, st  # not reached: the last pass returns
 
 
 @njit(cache=CACHE, fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL, _nrt=REFCOUNT)
@@ -729,24 +699,17 @@ def canonical_settle(u, p, w_i, w_o, eps):
 
 
 @njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
-def _distances(u, p, br, bz):
-    """The four contacts' centre distances (L_i1, L_o1, L_i2, L_o2, mm) at B, as :func:`_hand_ball` gives them."""
-    bz2 = 2.0 * p[OUTER_RADIUS] * math.sqrt(1.0 - p[COS_NOMINAL] * p[COS_NOMINAL]) - bz
-    vr1, vz1, vr2, vz2 = u[2] - br, u[3] - bz, u[4] - br, u[5] - bz2
-    return (math.sqrt(vr1 * vr1 + vz1 * vz1), math.sqrt(br * br + bz * bz), math.sqrt(vr2 * vr2 + vz2 * vz2),
-            math.sqrt(br * br + bz2 * bz2))
-
-
-@njit(inline="always", fastmath=KERNEL_FASTMATH, error_model=ERROR_MODEL)
-def _short(u, p, br, bz, L, s_r, s_z, reach):
+def _short(u, p, br, bz, s_r, s_z, reach):
     """Whether the Newton step s (B' = B - s) moves no contact's centre distance by more than ``reach`` of its
-    deflection (an open contact: of its gap); L the centre distances at B (L_i1, L_o1, L_i2, L_o2, mm, as
-    :func:`_hand_ball` gives them); False for a NaN step."""
+    deflection (an open contact: of its gap); False for a NaN step."""
     ro = p[OUTER_RADIUS]
     ri = p[INNER_RADIUS]
     bz2 = 2.0 * ro * math.sqrt(1.0 - p[COS_NOMINAL] * p[COS_NOMINAL]) - bz  # pair -'s frame mirrors B_z
-    Li1, Lo1, Li2, Lo2 = L
+    Lo1 = math.sqrt(br * br + bz * bz)
+    Lo2 = math.sqrt(br * br + bz2 * bz2)
     vr1, vz1, vr2, vz2 = u[2] - br, u[3] - bz, u[4] - br, u[5] - bz2
+    Li1 = math.sqrt(vr1 * vr1 + vz1 * vz1)
+    Li2 = math.sqrt(vr2 * vr2 + vz2 * vz2)
     return (abs(br * s_r + bz * s_z) <= reach * abs(Lo1 - ro) * Lo1
             and abs(br * s_r - bz2 * s_z) <= reach * abs(Lo2 - ro) * Lo2
             and abs(vr1 * s_r + vz1 * s_z) <= reach * abs(Li1 - ri) * Li1
@@ -780,7 +743,7 @@ def linear_look(u, p, w_i, w_o, eps, br, bz):
     det = a[0] * b[1] - b[0] * a[1]
     s_r = (b[1] * y[0] - b[0] * y[1]) / det
     s_z = (a[0] * y[1] - a[1] * y[0]) / det
-    if not _short(u, p, br, bz, _distances(u, p, br, bz), s_r, s_z, LINEAR_REACH):  # also a NaN step (det 0)
+    if not _short(u, p, br, bz, s_r, s_z, LINEAR_REACH):  # also a NaN step (det 0)
         return br, bz, False, True, y, st, J
     y = (y[0], y[1], y[2] - (a[2] * s_r + b[2] * s_z), y[3] - (a[3] * s_r + b[3] * s_z),
          y[4] - (a[4] * s_r + b[4] * s_z), y[5] - (a[5] * s_r + b[5] * s_z), y[6] - (a[6] * s_r + b[6] * s_z),
