@@ -44,7 +44,10 @@ KERNEL = textwrap.dedent("""
         time.sleep(5.0)  # both are waiting by now (numba's set-up done), and said so
         sys.exit(0)
     import fastbearing._numba_cache as nc
-    nc.WAIT_FIRST = 0.2  # say so soon: on a loaded machine numba's first compile set-up alone can take seconds
+    from numba import njit
+
+    nc.WAIT_FIRST = 0.2  # say so soon
+    njit(lambda x: x + 1)(1)  # numba's compiler set up (seconds on a loaded machine) before the flag
     pathlib.Path(sys.argv[2]).touch()
     S0 = static_safety(np.array([1000.0, 0, 500.0, 0, 0]), np.full((1, 16), 0.5), 20000.0)
     print("compilations", count[0], "S0", repr(S0), flush=True)
