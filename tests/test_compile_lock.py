@@ -88,7 +88,7 @@ def test_the_lock_is_reentrant_says_when_it_waits_and_gives_up_after_its_patienc
     monkeypatch.setattr(nc, "WAIT_FIRST", 0.2)
     started = time.monotonic()
     assert not nc._acquire(path, "f", said.append)  # ran out of patience: compile without the lock
-    assert 0.6 <= time.monotonic() - started < 5.0
+    assert time.monotonic() - started >= 0.6  # it waited its patience out
     assert said and said[0].startswith("fastbearing: another process is compiling f; waiting")
     fcntl.flock(other, fcntl.LOCK_UN)
     assert nc._acquire(path, "f", said.append)

@@ -181,16 +181,26 @@ def test_a_portable_level_the_host_cannot_run_is_refused_before_anything_runs(mo
     assert "one of x86-64-v2, x86-64-v3, x86-64-v4" in capsys.readouterr().err
 
 
-def test_the_warmup_processes_import_this_fastbearing_not_a_clone_in_the_working_folder(tmp_path):
+def test_the_warmup_processes_import_this_fastbearing_not_a_clone_in_the_working_folder(tmp_path, monkeypatch):
     """A portable warm-up's process runs ``python -P`` with this package first on PYTHONPATH: started in a
-    clone's folder, it still compiles the installed package's files (numba keys its cache by them)."""
-    from fastbearing.jobs.warmup import _same_package
+    clone's folder, it still compiles the installed package's files (numba keys its cache by them). The
+    command and environment are the ones warmup_portable builds, run here with a decoy package in the
+    working folder."""
+    from fastbearing.jobs import warmup as w
 
+    started = []
+    run = subprocess.run
+    monkeypatch.setattr(w, "_check_host_runs", lambda level: None)
+    monkeypatch.setattr(w.subprocess, "run", lambda command, env: started.append((command, env))
+                        or subprocess.CompletedProcess(command, 0))
+    assert w.warmup_portable("x86-64-v2", tmp_path / "into", ["shafts"]) == 0
+    (command, env), = started
+    flags = command[1:command.index("-c")]
+    assert env["NUMBA_CPU_NAME"] == "x86-64-v2"
     decoy = tmp_path / "fastbearing"
     decoy.mkdir()
     (decoy / "__init__.py").write_text("raise SystemExit('imported the decoy')\n")
-    env = _same_package()
-    out = subprocess.run([sys.executable, "-P", "-c", "import fastbearing; print(fastbearing.__file__)"], env=env,
+    out = run([command[0], *flags, "-c", "import fastbearing; print(fastbearing.__file__)"], env=env,
                          cwd=tmp_path, capture_output=True, text=True, timeout=120)
     assert out.returncode == 0, out.stderr
     import fastbearing
