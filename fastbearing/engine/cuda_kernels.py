@@ -140,6 +140,13 @@ def map_run(run, elements, cases, given_load, settings, stop, scratch):
     map_runs(range(run, run + 1), elements, cases, given_load, settings, stop, scratch)
 
 
+if simulated():
+    # the simulator runs the kernels' bodies in Python: their helpers too, in plain Python (present, kept_if and
+    # own_copy have plain forms for this). Called as njit dispatchers from Python they were compiled, uncached,
+    # in every simulated process (about 11 s of each; the GPU inlines them, so they carry no cache of their own).
+    element_set, thread_scratch, case_block = element_set.py_func, thread_scratch.py_func, case_block.py_func
+
+
 @cuda.jit(cache=True)
 def solve_kernel(tables, cases, spin_all, settings, warm):
     """Every case of a CaseBlock (its results a contract.Solutions), one case per thread (grid stride), as
