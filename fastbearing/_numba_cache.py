@@ -224,6 +224,15 @@ def _release(path: str | None) -> None:
         os.close(held[0])  # closing the descriptor drops its flock
 
 
+def compile_failed(ev) -> bool:
+    """Whether a numba END event carries an exception (its compilation raised). Not ``Event.is_failed``: in numba
+    0.68 that returns ``_exc_details is None``, True for every compilation that succeeded, and the lock was
+    given back when a compilation ended, before its entry was saved: a process waiting on it could load nothing,
+    compile the function too (tests/test_compile_lock.py, about one run in four). A numba without the attribute
+    never counts a compilation failed: its lock then stays held until the process ends, and waiters wait."""
+    return getattr(ev, "_exc_details", None) is not None
+
+
 def serialise_compiles(say=None) -> bool:
     """Install the per-function compile lock (above) on numba's FunctionCache, once per process; ``say``
     receives the waiting lines (default: stderr). Returns whether it is in place (False: a numba without
@@ -266,7 +275,7 @@ def serialise_compiles(say=None) -> bool:
             pass
 
         def on_end(self, ev):
-            if ev.is_failed and ev.data:
+            if compile_failed(ev) and ev.data:
                 cache = getattr(ev.data.get("dispatcher"), "_cache", None)
                 _release(_lock_path(cache))
 

@@ -115,3 +115,18 @@ def test_the_lock_is_in_place_and_only_for_the_package(tmp_path):
         return x
 
     assert nc._lock_path(not_ours._cache) is None
+
+
+def test_only_a_compilation_that_raised_gives_its_lock_back_before_the_save():
+    """numba's Event.is_failed is True for a compilation that succeeded (numba 0.68): the lock went back when the
+    compilation ended, before its entry was saved, and a waiting process compiled the function too (one run in
+    four of the test above). compile_failed reads the exception itself; this fails loudly if numba changes it."""
+    from numba.core import event
+
+    def end(exc_details):
+        return event.Event("numba:compile", event.EventStatus.END, data={}, exc_details=exc_details)
+
+    assert not nc.compile_failed(end((None, None, None)))  # what a `with` block that ended normally passes
+    assert not nc.compile_failed(end(None))
+    error = ValueError("typing failed")
+    assert nc.compile_failed(end((ValueError, error, None)))
